@@ -1,0 +1,259 @@
+"""The scenario model: pydantic models validated once, frozen, pure data in SI units.
+
+Field names carry their unit (`_m`, `_s`, `_mps`, `_mps2`, `_mps3`, `_deg`). Positions are in the world frame
+(ISO 8855: x forward along the ego's road, y to the left). See docs/scenario.md for every field.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal, Self
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+class Point(_Frozen):
+    """A world-frame point, m. YAML may also write it as a two-element list `[x, y]`."""
+
+    x_m: float
+    y_m: float
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_pair(cls, value: Any) -> Any:
+        if isinstance(value, list | tuple):
+            if len(value) != 2:
+                raise ValueError("a point is [x_m, y_m] or {x_m: .., y_m: ..}")
+            return {"x_m": value[0], "y_m": value[1]}
+        return value
+
+
+class Pose(Point):
+    """A point with a heading, degrees counter-clockwise from +x."""
+
+    heading_deg: float = 0.0
+
+
+class Road(_Frozen):
+    """Road layout, centred on the world origin. Lanes are two-way: traffic keeps right."""
+
+    layout: Literal["straight", "intersection"] = "straight"
+    lane_width_m: float = Field(3.5, gt=0)
+    length_m: float = Field(200.0, gt=0, description="drawn length of each road arm pair, m")
+
+
+class Route(_Frozen):
+    """The ego's prescribed path (tracked by the rear-axle centre), starting at its start pose.
+
+    straight: a line of `length_m`. left / right: a line of `turn_at_m`, a circular arc of `radius_m`
+    turning by `angle_deg`, then a line to the total `length_m`.
+    """
+
+    kind: Literal["straight", "left", "right"] = "straight"
+    turn_at_m: float = Field(0.0, ge=0)
+    radius_m: float = Field(10.0, gt=0)
+    angle_deg: float = Field(90.0, gt=0, le=180)
+    length_m: float = Field(150.0, gt=0, description="route (trip) length, m; travel time is measured over it")
+
+    @model_validator(mode="after")
+    def _turn_fits(self) -> Self:
+        if self.kind != "straight":
+            needed = self.turn_at_m + self.radius_m * math.radians(self.angle_deg)
+            if needed > self.length_m:
+                raise ValueError(f"length_m must cover turn_at_m + the arc ({needed:.2f} m)")
+        return self
+
+
+class PathTracking(_Frozen):
+    """Gains of the rear-axle path tracker (curvature feedforward + lateral and heading feedback)."""
+
+    lateral_gain_per_m2: float = Field(0.3, gt=0)
+    heading_gain_per_m: float = Field(1.2, gt=0)
+
+
+class Ego(_Frozen):
+    """The ego vehicle: a kinematic bicycle. `start` is the centre of its rectangle."""
+
+    start: Pose
+    cruise_speed_mps: float = Field(ge=0)
+    initial_speed_mps: float | None = Field(None, ge=0, description="defaults to cruise_speed_mps")
+    route: Route = Route()
+    length_m: float = Field(4.5, gt=0)
+    width_m: float = Field(1.8, gt=0)
+    wheelbase_m: float = Field(2.7, gt=0)
+    rear_overhang_m: float = Field(0.9, ge=0)
+    max_accel_mps2: float = Field(2.0, gt=0)
+    max_decel_mps2: float = Field(8.0, gt=0)
+    max_jerk_mps3: float | None = Field(None, gt=0, description="None: no jerk limit")
+    actuator_lag_s: float = Field(0.0, ge=0, description="first-order lag of the acceleration, s; 0: none")
+    max_steer_deg: float = Field(35.0, gt=0, lt=90)
+    tracking: PathTracking = PathTracking()
+
+    @model_validator(mode="after")
+    def _geometry(self) -> Self:
+        if self.wheelbase_m + self.rear_overhang_m > self.length_m:
+            raise ValueError("wheelbase_m + rear_overhang_m must not exceed length_m")
+        return self
+
+    @property
+    def start_speed_mps(self) -> float:
+        """Speed at t = 0, m/s."""
+        return self.cruise_speed_mps if self.initial_speed_mps is None else self.initial_speed_mps
+
+
+class Sensor(_Frozen):
+    """Onboard sector sensor with its apex at the centre of the front bumper."""
+
+    enabled: bool = True
+    range_m: float = Field(20.0, gt=0)
+    fov_deg: float = Field(120.0, gt=0, le=360, description="full opening angle, in (0, 360]")
+
+
+class V2X(_Frozen):
+    """Roadside unit (RSU) broadcasting VRU awareness messages of the VRUs it perceives."""
+
+    enabled: bool = False
+    rsu: Point | None = None
+    comm_range_m: float = Field(50.0, gt=0, description="ego receives messages within this distance of the RSU")
+    coverage_range_m: float = Field(50.0, gt=0, description="RSU perceives VRUs within this distance")
+    channel: Literal["ideal"] = "ideal"
+
+    @model_validator(mode="after")
+    def _rsu_when_enabled(self) -> Self:
+        if self.enabled and self.rsu is None:
+            raise ValueError("rsu (its position) is required when V2X is enabled")
+        return self
+
+
+class PlannerSpec(_Frozen):
+    """Which planner drives the ego, and its parameters (validated by the planner itself)."""
+
+    name: str = "fsm"
+    params: dict[str, Any] = Field(default_factory=dict)
+
+
+class Trigger(_Frozen):
+    """When a VRU starts moving: give exactly one of the three conditions."""
+
+    at_time_s: float | None = Field(None, ge=0)
+    ego_distance_m: float | None = Field(None, ge=0, description="ego front within this distance of `point`")
+    ego_time_to_arrival_s: float | None = Field(None, ge=0, description="ego front distance / speed to `point`")
+    point: Point | None = None
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> Self:
+        given = [n for n in ("at_time_s", "ego_distance_m", "ego_time_to_arrival_s") if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of at_time_s, ego_distance_m, ego_time_to_arrival_s")
+        if given[0] != "at_time_s" and self.point is None:
+            raise ValueError(f"{given[0]} needs `point`")
+        return self
+
+
+class Vru(_Frozen):
+    """A vulnerable road user: a point mass moving along a prescribed path from rest to its top speed."""
+
+    type: VruType
+    start: Point
+    heading_deg: float | None = Field(None, description="straight path from start in this direction")
+    path: list[Point] | None = Field(None, description="polyline waypoints after start")
+    top_speed_mps: float | None = Field(None, gt=0)
+    max_accel_mps2: float | None = Field(None, gt=0)
+    radius_m: float | None = Field(None, gt=0)
+    speed_time_constant_s: float = Field(0.0, ge=0, description="relaxation time toward top speed; 0: none")
+    trigger: Trigger = Trigger(at_time_s=0.0)
+
+    @model_validator(mode="after")
+    def _one_path(self) -> Self:
+        if (self.heading_deg is None) == (self.path is None):
+            raise ValueError("give exactly one of heading_deg or path")
+        if self.path is not None:
+            if len(self.path) < 1:
+                raise ValueError("path needs at least one waypoint")
+            previous = self.start
+            for point in self.path:
+                if math.hypot(point.x_m - previous.x_m, point.y_m - previous.y_m) < 1e-6:
+                    raise ValueError("path waypoints must differ from the previous point")
+                previous = point
+        return self
+
+    @property
+    def speed_mps(self) -> float:
+        """Top speed, m/s (type default when not given)."""
+        return self.top_speed_mps if self.top_speed_mps is not None else VRU_DEFAULTS[self.type].top_speed_mps
+
+    @property
+    def accel_mps2(self) -> float:
+        """Acceleration limit, m/s^2."""
+        return self.max_accel_mps2 if self.max_accel_mps2 is not None else VRU_DEFAULTS[self.type].max_accel_mps2
+
+    @property
+    def footprint_m(self) -> float:
+        """Footprint radius, m."""
+        return self.radius_m if self.radius_m is not None else VRU_DEFAULTS[self.type].radius_m
+
+
+class SimSettings(_Frozen):
+    """Integration step, duration and stop conditions."""
+
+    dt_s: float = Field(0.01, gt=0, le=0.1)
+    duration_s: float = Field(15.0, gt=0, le=3600)
+    stop_on_collision: bool = True
+    stop_at_route_end: bool = True
+    seed: int = Field(0, ge=0)
+
+    @model_validator(mode="after")
+    def _enough_steps(self) -> Self:
+        if self.duration_s < self.dt_s:
+            raise ValueError("duration_s must be at least dt_s")
+        return self
+
+
+class MetricsSettings(_Frozen):
+    """Which score calibration profile to use (see docs/metrics.md)."""
+
+    profile: str = "paper"
+
+
+class Scenario(_Frozen):
+    """One closed-loop test case: the single source of truth for a run."""
+
+    name: str = Field(min_length=1)
+    description: str = ""
+    road: Road = Road()
+    ego: Ego
+    sensor: Sensor = Sensor()
+    v2x: V2X = V2X()
+    planner: PlannerSpec = PlannerSpec()
+    vrus: list[Vru] = Field(min_length=1, max_length=64)
+    sim: SimSettings = SimSettings()
+    metrics: MetricsSettings = MetricsSettings()
+
+    @field_validator("vrus")
+    @classmethod
+    def _vrus_outside_ego(cls, vrus: list[Vru], info: Any) -> list[Vru]:
+        ego = info.data.get("ego")
+        if ego is None:
+            return vrus
+        heading = math.radians(ego.start.heading_deg)
+        cos_h, sin_h = math.cos(heading), math.sin(heading)
+        for index, vru in enumerate(vrus):
+            dx, dy = vru.start.x_m - ego.start.x_m, vru.start.y_m - ego.start.y_m
+            local_x, local_y = cos_h * dx + sin_h * dy, -sin_h * dx + cos_h * dy
+            gap_x = max(abs(local_x) - ego.length_m / 2, 0.0)
+            gap_y = max(abs(local_y) - ego.width_m / 2, 0.0)
+            if math.hypot(gap_x, gap_y) <= vru.footprint_m:
+                raise ValueError(f"vrus[{index}] starts overlapping the ego vehicle")
+        return vrus
+
+    def with_v2x(self, enabled: bool) -> Scenario:
+        """A copy with V2X switched on or off (validated again)."""
+        data = self.model_dump()
+        data["v2x"]["enabled"] = enabled
+        return Scenario.model_validate(data)

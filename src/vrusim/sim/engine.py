@@ -1,0 +1,168 @@
+"""The batch engine: advances B variants in lock-step with a fixed time step.
+
+Each step, from the state at time t: VRU triggers → sensing (sector) → V2X (RSU → channel) → fused observation →
+planner → VRU and ego motion to t + dt → contact check and streaming metrics. A variant stops contributing to
+its metrics when it collides (if `stop_on_collision`), completes its route (if `stop_at_route_end`) or reaches
+its duration; the loop ends when every variant has stopped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vrusim.errors import UserInputError
+from vrusim.metrics.streaming import RunMetrics
+from vrusim.metrics.ttc import time_to_collision
+from vrusim.planners.base import Planner
+from vrusim.planners.registry import make_planner
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.batch import BatchParams, pack
+from vrusim.sim.contact import rectangle_circle_clearance
+from vrusim.sim.ego_dynamics import step_ego
+from vrusim.sim.observation import Observation, fuse
+from vrusim.sim.sensing import perceived
+from vrusim.sim.state import ego_centre, ego_front, initial_ego, initial_vrus
+from vrusim.sim.v2x import Channel, IdealChannel, rsu_broadcast
+from vrusim.sim.vru_motion import step_vrus, triggered
+
+
+@dataclass
+class BatchRun:
+    """Everything a batch run produced: parameters, streamed metrics, planner mode names, optional trace."""
+
+    params: BatchParams
+    metrics: RunMetrics
+    mode_names: tuple[str, ...]
+    trace: dict[str, np.ndarray] | None = None
+    steps: int = 0
+    extras: dict = field(default_factory=dict)
+
+
+def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
+    names = {s.planner.name for s in scenarios}
+    if len(names) != 1:
+        raise UserInputError(f"planner.name: one batch runs one planner, got {sorted(names)}")
+    return make_planner(names.pop())
+
+
+def simulate(
+    scenarios: Sequence[Scenario],
+    planner: Planner | None = None,
+    channel: Channel | None = None,
+    trace: bool = False,
+) -> BatchRun:
+    """Run scenarios as one batch and return the streamed results (and a full trace when asked)."""
+    params = pack(list(scenarios))
+    planner = planner if planner is not None else _planner_for(scenarios)
+    channel = channel if channel is not None else IdealChannel()
+    planner.reset(params)
+    channel.reset(params)
+    mode_names = tuple(getattr(planner, "mode_names", ("running",)))
+    metrics = RunMetrics(params, len(mode_names))
+    ego = initial_ego(params)
+    vrus = initial_vrus(params)
+    started = np.zeros(params.vru_valid.shape, dtype=bool)
+    active = np.ones(params.size, dtype=bool)
+    dt = params.dt_s
+    recorder = _TraceRecorder() if trace else None
+    step = 0
+    for step in range(params.n_steps):  # noqa: B007 (the count is reported)
+        t = step * dt
+        front_x, front_y = ego_front(params, ego)
+        started = started | triggered(params, t, front_x, front_y, ego.speed_mps)
+        sensed = perceived(front_x, front_y, ego.heading_x, ego.heading_y, params.sensor_range_m,
+                           params.sensor_cos_half, params.sensor_sin_half, vrus.x_m, vrus.y_m,
+                           params.vru_radius_m, params.sensor_enabled)
+        centre_x, centre_y = ego_centre(params, ego)
+        messages = channel.deliver(t, rsu_broadcast(params, centre_x, centre_y, vrus.x_m, vrus.y_m,
+                                                    vrus.vx_mps, vrus.vy_mps))
+        detected, source, obs_x, obs_y, obs_vx, obs_vy, age = fuse(
+            sensed, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps, messages
+        )
+        metrics.record_detection(t, active, sensed, messages.received)
+        observation = Observation(
+            t, dt, ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m,
+            params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m, params.routes,
+            params.route_offset, detected, source, obs_x, obs_y, obs_vx, obs_vy, params.vru_radius_m, age,
+        )
+        old_mode = getattr(planner, "mode", None)
+        old_mode = None if old_mode is None else old_mode.copy()
+        command = np.asarray(planner.act(observation), dtype=float)
+        if old_mode is not None:
+            metrics.record_modes(t, active, old_mode, planner.mode)
+        moving_before = ego.speed_mps > 0.0
+        vrus = step_vrus(params, vrus, started)
+        ego = step_ego(params, ego, command)
+        t_next = (step + 1) * dt
+
+        centre_x, centre_y = ego_centre(params, ego)
+        clearance, outline_x, outline_y = rectangle_circle_clearance(
+            centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m, params.half_width_m,
+            vrus.x_m, vrus.y_m, params.vru_radius_m,
+        )
+        ego_vx, ego_vy = ego.speed_mps * ego.heading_x, ego.speed_mps * ego.heading_y
+        ttc = time_to_collision(
+            centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m, params.half_width_m,
+            ego_vx, ego_vy, vrus.x_m, vrus.y_m, params.vru_radius_m, vrus.vx_mps, vrus.vy_mps,
+        )
+
+        def contact_info(clearance=clearance, outline_x=outline_x, outline_y=outline_y, ego=ego,
+                         ego_vx=ego_vx, ego_vy=ego_vy, vrus=vrus):
+            index = np.argmin(clearance, axis=1)
+            pick = index[:, None]
+            rvx = ego_vx - np.take_along_axis(vrus.vx_mps, pick, axis=1)[:, 0]
+            rvy = ego_vy - np.take_along_axis(vrus.vy_mps, pick, axis=1)[:, 0]
+            return (index, np.hypot(rvx, rvy), rvx * ego.heading_x + rvy * ego.heading_y,
+                    np.take_along_axis(outline_x, pick, axis=1)[:, 0],
+                    np.take_along_axis(outline_y, pick, axis=1)[:, 0])
+
+        metrics.record_step(t_next, active, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2, ego.curvature_per_m,
+                            moving_before, clearance, ttc, ego.station_m, contact_info)
+        if recorder is not None:
+            recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
+        arrived = ~np.isnan(metrics.travel_time_s)
+        active = (
+            active
+            & ~(params.stop_on_collision & metrics.collided)
+            & ~(params.stop_at_route_end & arrived)
+            & (t_next < params.duration_s - 1e-9)
+        )
+        if not active.any():
+            break
+    return BatchRun(params, metrics, mode_names, recorder.finish() if recorder else None, step + 1)
+
+
+class _TraceRecorder:
+    """Full time series for plots and trace files (only when asked: memory O(B x steps))."""
+
+    def __init__(self) -> None:
+        self.rows: dict[str, list[np.ndarray]] = {}
+
+    def _put(self, name: str, value) -> None:
+        self.rows.setdefault(name, []).append(np.array(value, copy=True))
+
+    def add(self, t, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command) -> None:
+        self._put("t_s", t)
+        self._put("ego_x_m", centre_x)
+        self._put("ego_y_m", centre_y)
+        self._put("ego_heading_x", ego.heading_x)
+        self._put("ego_heading_y", ego.heading_y)
+        self._put("ego_speed_mps", ego.speed_mps)
+        self._put("ego_accel_mps2", ego.accel_mps2)
+        self._put("ego_command_mps2", command)
+        self._put("ego_curvature_per_m", ego.curvature_per_m)
+        self._put("ego_station_m", ego.station_m)
+        self._put("planner_mode", getattr(planner, "mode", np.zeros(ego.x_m.shape, dtype=np.int8)))
+        self._put("vru_x_m", vrus.x_m)
+        self._put("vru_y_m", vrus.y_m)
+        self._put("vru_speed_mps", vrus.speed_mps)
+        self._put("vru_detected", detected)
+        self._put("vru_source", source)
+        self._put("clearance_m", clearance.min(axis=1))
+        self._put("ttc_s", ttc.min(axis=1))
+
+    def finish(self) -> dict[str, np.ndarray]:
+        return {name: np.stack(values) for name, values in self.rows.items()}

@@ -1,0 +1,65 @@
+"""Batch state: plain arrays, first axis = variant, second = VRU slot. SI units."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vrusim.sim.batch import BatchParams
+
+
+@dataclass
+class EgoState:
+    """Kinematic-bicycle state of B egos; the reference point is the rear-axle centre."""
+
+    x_m: np.ndarray
+    y_m: np.ndarray
+    heading_x: np.ndarray
+    heading_y: np.ndarray
+    speed_mps: np.ndarray
+    accel_mps2: np.ndarray
+    """Acceleration achieved over the last step, m/s^2."""
+    actuator_mps2: np.ndarray
+    """Actuator output after lag and jerk limit, m/s^2."""
+    station_m: np.ndarray
+    """Rear-axle station along the route, m."""
+    curvature_per_m: np.ndarray
+
+
+@dataclass
+class VruState:
+    """Path-constrained point masses, [B, K]."""
+
+    started: np.ndarray
+    station_m: np.ndarray
+    speed_mps: np.ndarray
+    x_m: np.ndarray
+    y_m: np.ndarray
+    vx_mps: np.ndarray
+    vy_mps: np.ndarray
+
+
+def initial_ego(params: BatchParams) -> EgoState:
+    """Egos at the start of their routes, at their start speed."""
+    zeros = np.zeros(params.size)
+    x, y, tx, ty, kappa = params.routes.locate(params.route_offset, zeros)
+    return EgoState(x, y, tx, ty, params.start_speed_mps.copy(), zeros.copy(), zeros.copy(), zeros.copy(),
+                    np.zeros(params.size))
+
+
+def initial_vrus(params: BatchParams) -> VruState:
+    """VRUs at rest at the start of their paths."""
+    zeros = np.zeros(params.vru_valid.shape)
+    x, y, _, _, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
+    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), x, y, zeros.copy(), zeros.copy())
+
+
+def ego_front(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray]:
+    """Centre of the front bumper, m."""
+    return ego.x_m + params.rear_to_front_m * ego.heading_x, ego.y_m + params.rear_to_front_m * ego.heading_y
+
+
+def ego_centre(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray]:
+    """Centre of the ego rectangle, m."""
+    return ego.x_m + params.rear_to_centre_m * ego.heading_x, ego.y_m + params.rear_to_centre_m * ego.heading_y
