@@ -36,7 +36,12 @@ def world_corners(cx, cy, hx, hy, hl, hw):
     fwd = np.array([hx, hy])
     left = np.array([-hy, hx])
     c = np.array([cx, cy])
-    return [c + hl * fwd - hw * left, c + hl * fwd + hw * left, c - hl * fwd + hw * left, c - hl * fwd - hw * left]
+    return [
+        c + hl * fwd - hw * left,
+        c + hl * fwd + hw * left,
+        c - hl * fwd + hw * left,
+        c - hl * fwd - hw * left,
+    ]
 
 
 def point_segment_distance(p, a, b):
@@ -118,6 +123,14 @@ def test_centre_inside_is_negative_radius_plus_depth():
     assert impact_side(ox, oy, 2.0, 1.0) == REAR
 
 
+def test_interior_tie_goes_to_front_rear_edge():
+    # Centre on the interior diagonal: 0.5 m from both the front and the left edge.
+    c, ox, oy = clearance1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 1.5, 0.5, 0.25)
+    assert c == pytest.approx(-0.75, abs=1e-12)
+    assert (ox, oy) == (2.0, 0.5)
+    assert impact_side(ox, oy, 2.0, 1.0) == FRONT
+
+
 def test_centre_exactly_at_rectangle_centre_and_on_outline():
     c, ox, oy = clearance1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.5)
     assert c == pytest.approx(-1.5, abs=1e-12)  # nearest edges are the sides, 1 m away
@@ -173,7 +186,8 @@ def test_impact_side_and_lateral_fraction_conventions():
     side = impact_side(ox, oy, hl, hw)
     assert side.dtype == np.int8
     assert side.tolist() == [[FRONT, FRONT, FRONT, LEFT, RIGHT, REAR, REAR]]
-    assert [IMPACT_SIDE_NAMES[s] for s in side[0]] == ["front", "front", "front", "left", "right", "rear", "rear"]
+    names = ["front", "front", "front", "left", "right", "rear", "rear"]
+    assert [IMPACT_SIDE_NAMES[s] for s in side[0]] == names
     frac = lateral_impact_fraction(oy, hw)
     np.testing.assert_allclose(frac[0, :3], [1.0, 0.5, 0.0])  # front-left corner, front centre, right edge
     assert frac.shape == (1, 7)
@@ -235,7 +249,7 @@ def scenes(draw):
 @settings(max_examples=200, deadline=None)
 @given(scenes())
 def test_clearance_matches_segment_reference(scene):
-    cx, cy, hx, hy, hl, hw, px, py, r = scene
+    cx, cy, hx, hy, hl, hw, px, py, _ = scene
     c, ox, oy = clearance1(*scene)
     ref, dist = reference_clearance(*scene)
     assert c == pytest.approx(ref, abs=1e-9)
@@ -247,9 +261,7 @@ def test_clearance_matches_segment_reference(scene):
 
 
 @settings(max_examples=50, deadline=None)
-@given(
-    st.floats(0.1, 3.0), st.floats(0.1, 2.0), angle, st.floats(-6.0, 6.0), st.floats(-4.0, 4.0), st.floats(0, 1)
-)
+@given(st.floats(0.1, 3.0), st.floats(0.1, 2.0), angle, st.floats(-6, 6), st.floats(-4, 4), st.floats(0, 1))
 def test_clearance_matches_dense_sampling(hl, hw, th, px, py, r):
     """Distance to densely sampled filled rectangle (outside) / outline (inside), within grid tolerance."""
     hx, hy = math.cos(th), math.sin(th)

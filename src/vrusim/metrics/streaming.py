@@ -1,57 +1,60 @@
-"""Streaming run metrics: reduced inside the step loop, so memory stays O(B), never O(B x steps)."""
+"""Streaming run metrics: reduced inside the step loop, so memory stays O(B), never O(B x steps).
+
+All per-variant accumulators live in one array `values[field, B]` updated by a compiled kernel; each field is
+readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/metrics.md.
+"""
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from vrusim.sim.batch import BatchParams
 
+FIELDS = (
+    "peak_accel_mps2", "peak_decel_mps2", "peak_jerk_mps3", "peak_lateral_accel_mps2",
+    "sum_accel_sq", "sum_jerk_sq", "elapsed_s",
+    "min_clearance_m", "min_clearance_time_s", "min_ttc_s", "min_ttc_time_s", "travel_time_s",
+    "contact_time_s", "impact_ego_speed_mps", "impact_relative_speed_mps", "impact_relative_longitudinal_mps",
+    "impact_local_x_m", "impact_local_y_m", "impact_vru",
+    "first_sensor_s", "first_v2x_s", "end_time_s", "final_speed_mps", "final_station_m",
+    "prev_actuator", "prev_clearance", "prev_speed",
+)
+"""Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
+_I = {name: index for index, name in enumerate(FIELDS)}
+(PEAK_A, PEAK_D, PEAK_J, PEAK_LAT, SUM_A2, SUM_J2, ELAPSED, MIN_CLR, MIN_CLR_T, MIN_TTC, MIN_TTC_T, TRAVEL,
+ CONTACT_T, IMPACT_V, IMPACT_REL, IMPACT_REL_LONG, IMPACT_X, IMPACT_Y, IMPACT_VRU, FIRST_SENSOR, FIRST_V2X,
+ END_T, FINAL_V, FINAL_S, PREV_ACT, PREV_CLR, PREV_V) = range(len(FIELDS))
+
 
 class RunMetrics:
-    """Accumulates per-variant summaries step by step (see docs/metrics.md for each definition)."""
+    """Per-variant summaries of a batch run, accumulated step by step."""
 
     def __init__(self, params: BatchParams, n_modes: int):
         B = params.size
         self.params = params
-        inf = np.full(B, np.inf)
-        nan = np.full(B, np.nan)
+        values = np.zeros((len(FIELDS), B))
+        nan_rows = (MIN_CLR_T, MIN_TTC_T, TRAVEL, CONTACT_T, IMPACT_V, IMPACT_REL, IMPACT_REL_LONG, IMPACT_X,
+                    IMPACT_Y, FIRST_SENSOR, FIRST_V2X)
+        values[list(nan_rows)] = np.nan
+        values[[MIN_CLR, MIN_TTC, PREV_CLR]] = np.inf
+        values[IMPACT_VRU] = -1
+        values[FINAL_V] = params.start_speed_mps
+        values[PREV_V] = params.start_speed_mps
+        self.values = values
         self.collided = np.zeros(B, dtype=bool)
-        self.contact_time_s = nan.copy()
-        self.impact_ego_speed_mps = nan.copy()
-        self.impact_relative_speed_mps = nan.copy()
-        self.impact_relative_longitudinal_mps = nan.copy()
-        self.impact_local_x_m = nan.copy()
-        self.impact_local_y_m = nan.copy()
-        self.impact_vru = np.full(B, -1)
-        self.min_clearance_m = inf.copy()
-        self.min_clearance_time_s = nan.copy()
-        self.min_ttc_s = inf.copy()
-        self.min_ttc_time_s = nan.copy()
-        self.peak_accel_mps2 = np.zeros(B)
-        self.peak_decel_mps2 = np.zeros(B)
-        self.peak_jerk_mps3 = np.zeros(B)
-        self.peak_lateral_accel_mps2 = np.zeros(B)
-        self.sum_accel_sq = np.zeros(B)
-        self.sum_jerk_sq = np.zeros(B)
-        self.elapsed_s = np.zeros(B)
-        self.travel_time_s = nan.copy()
-        self.first_sensor_s = nan.copy()
-        self.first_v2x_s = nan.copy()
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
-        self.end_time_s = np.zeros(B)
-        self.final_speed_mps = params.start_speed_mps.copy()
-        self.final_station_m = np.zeros(B)
-        self.prev_actuator = np.zeros(B)
-        self.prev_clearance = np.full(B, np.inf)
-        self.prev_speed = params.start_speed_mps.copy()
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        index = _I.get(name)
+        if index is None:
+            raise AttributeError(name)
+        return self.values[index]
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
-        sensed_any = sensed.any(axis=1) & active
-        v2x_any = v2x_received.any(axis=1) & active
-        self.first_sensor_s = np.where(sensed_any & np.isnan(self.first_sensor_s), t_s, self.first_sensor_s)
-        self.first_v2x_s = np.where(v2x_any & np.isnan(self.first_v2x_s), t_s, self.first_v2x_s)
+        _record_detection(t_s, active, sensed, v2x_received, self.values)
 
     def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
         """Every planner state transition, with its time."""
@@ -62,62 +65,71 @@ class RunMetrics:
                 if np.isnan(self.first_mode_s[b, new_mode[b]]):
                     self.first_mode_s[b, new_mode[b]] = t_s
 
-    def record_step(self, t_s: float, active, ego_speed, ego_accel, actuator, curvature, moving_before,
-                    clearance, ttc, station, contact_info) -> None:
+    def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc,
+                    vru_vx, vru_vy) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""
-        dt = self.params.dt_s
-        jerk = np.where(moving_before, (actuator - self.prev_actuator) * (1.0 / dt), 0.0)
-        self.prev_actuator = actuator
-        lateral = ego_speed * ego_speed * np.abs(curvature)
-        on = active
-        self.peak_accel_mps2 = np.where(on, np.maximum(self.peak_accel_mps2, ego_accel), self.peak_accel_mps2)
-        self.peak_decel_mps2 = np.where(on, np.maximum(self.peak_decel_mps2, -ego_accel), self.peak_decel_mps2)
-        self.peak_jerk_mps3 = np.where(on, np.maximum(self.peak_jerk_mps3, np.abs(jerk)), self.peak_jerk_mps3)
-        self.peak_lateral_accel_mps2 = np.where(
-            on, np.maximum(self.peak_lateral_accel_mps2, lateral), self.peak_lateral_accel_mps2
-        )
-        self.sum_accel_sq += np.where(on, ego_accel * ego_accel * dt, 0.0)
-        self.sum_jerk_sq += np.where(on, jerk * jerk * dt, 0.0)
-        self.elapsed_s += np.where(on, dt, 0.0)
+        _record_step(t_s, self.params.dt_s, active, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2,
+                     ego.curvature_per_m, ego.station_m, ego.heading_x, ego.heading_y, moving_before,
+                     self.params.route_length_m, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy,
+                     self.values, self.collided)
 
-        closest = clearance.min(axis=1)
-        better = on & (closest < self.min_clearance_m)
-        self.min_clearance_m = np.where(better, closest, self.min_clearance_m)
-        self.min_clearance_time_s = np.where(better, t_s, self.min_clearance_time_s)
-        soonest = ttc.min(axis=1)
-        sooner = on & (soonest < self.min_ttc_s)
-        self.min_ttc_s = np.where(sooner, soonest, self.min_ttc_s)
-        self.min_ttc_time_s = np.where(sooner, t_s, self.min_ttc_time_s)
 
-        arrived = on & np.isnan(self.travel_time_s) & (station >= self.params.route_length_m)
-        self.travel_time_s = np.where(arrived, t_s, self.travel_time_s)
+@njit(cache=True)
+def _record_detection(t, active, sensed, received, values):  # pragma: no cover (compiled)
+    B, K = sensed.shape
+    for b in range(B):
+        if not active[b]:
+            continue
+        for k in range(K):
+            if sensed[b, k] and np.isnan(values[FIRST_SENSOR, b]):
+                values[FIRST_SENSOR, b] = t
+            if received[b, k] and np.isnan(values[FIRST_V2X, b]):
+                values[FIRST_V2X, b] = t
 
-        new_contact = on & ~self.collided & (closest <= 0.0)
-        if new_contact.any():
-            self._record_contact(t_s, new_contact, closest, ego_speed, contact_info)
-        self.prev_clearance = closest
-        self.prev_speed = ego_speed
-        self.end_time_s = np.where(on, t_s, self.end_time_s)
-        self.final_speed_mps = np.where(on, ego_speed, self.final_speed_mps)
-        self.final_station_m = np.where(on, station, self.final_station_m)
 
-    def _record_contact(self, t_s, new_contact, closest, ego_speed, contact_info) -> None:
-        """First contact: time and ego speed interpolated inside the step where clearance crossed zero."""
-        dt = self.params.dt_s
-        vru_index, rel_speed, rel_long, local_x, local_y = contact_info()
-        before = self.prev_clearance
-        with np.errstate(divide="ignore", invalid="ignore"):
-            frac = np.where(np.isfinite(before) & (before > closest), before / (before - closest), 1.0)
-        frac = np.clip(frac, 0.0, 1.0)
-        t_contact = t_s - dt + frac * dt
-        speed = self.prev_speed + frac * (ego_speed - self.prev_speed)
-        self.collided |= new_contact
-        self.contact_time_s = np.where(new_contact, t_contact, self.contact_time_s)
-        self.impact_ego_speed_mps = np.where(new_contact, speed, self.impact_ego_speed_mps)
-        self.impact_relative_speed_mps = np.where(new_contact, rel_speed, self.impact_relative_speed_mps)
-        self.impact_relative_longitudinal_mps = np.where(
-            new_contact, rel_long, self.impact_relative_longitudinal_mps
-        )
-        self.impact_local_x_m = np.where(new_contact, local_x, self.impact_local_x_m)
-        self.impact_local_y_m = np.where(new_contact, local_y, self.impact_local_y_m)
-        self.impact_vru = np.where(new_contact, vru_index, self.impact_vru)
+@njit(cache=True)
+def _record_step(t, dt, active, speed, accel, actuator, curvature, station, hx, hy, moving_before,
+                 route_length, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy, m,
+                 collided):  # pragma: no cover (compiled)
+    B, K = clearance.shape
+    for b in range(B):
+        if not active[b]:
+            m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
+            continue
+        jerk = (actuator[b] - m[PREV_ACT, b]) / dt if moving_before[b] else 0.0
+        a = accel[b]
+        m[PEAK_A, b] = max(m[PEAK_A, b], a)
+        m[PEAK_D, b] = max(m[PEAK_D, b], -a)
+        m[PEAK_J, b] = max(m[PEAK_J, b], abs(jerk))
+        m[PEAK_LAT, b] = max(m[PEAK_LAT, b], speed[b] * speed[b] * abs(curvature[b]))
+        m[SUM_A2, b] += a * a * dt
+        m[SUM_J2, b] += jerk * jerk * dt
+        m[ELAPSED, b] += dt
+        closest, nearest, soonest = np.inf, 0, np.inf
+        for k in range(K):
+            if clearance[b, k] < closest:
+                closest, nearest = clearance[b, k], k
+            soonest = min(soonest, ttc[b, k])
+        if closest < m[MIN_CLR, b]:
+            m[MIN_CLR, b], m[MIN_CLR_T, b] = closest, t
+        if soonest < m[MIN_TTC, b]:
+            m[MIN_TTC, b], m[MIN_TTC_T, b] = soonest, t
+        if np.isnan(m[TRAVEL, b]) and station[b] >= route_length[b]:
+            m[TRAVEL, b] = t
+        if not collided[b] and closest <= 0.0:
+            # first contact: time and ego speed interpolated where the clearance crossed zero in this step
+            before = m[PREV_CLR, b]
+            frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
+            frac = min(max(frac, 0.0), 1.0)
+            collided[b] = True
+            m[CONTACT_T, b] = t - dt + frac * dt
+            m[IMPACT_V, b] = m[PREV_V, b] + frac * (speed[b] - m[PREV_V, b])
+            rvx = speed[b] * hx[b] - vru_vx[b, nearest]
+            rvy = speed[b] * hy[b] - vru_vy[b, nearest]
+            m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
+            m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
+            m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
+            m[IMPACT_VRU, b] = nearest
+        m[PREV_CLR, b] = closest
+        m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
+        m[END_T, b], m[FINAL_V, b], m[FINAL_S, b] = t, speed[b], station[b]

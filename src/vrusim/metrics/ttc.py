@@ -58,7 +58,9 @@ def time_to_collision(
     """
     shape = np.broadcast_shapes(*(np.shape(a) for a in (circle_x, circle_y, radius, vru_vx, vru_vy)))
     qx, qy, r, vx, vy = _circle_arrays(circle_x, circle_y, radius, vru_vx, vru_vy)
-    rect = _lift_all(qx.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width, ego_vx, ego_vy)
+    rect = _lift_all(
+        qx.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width, ego_vx, ego_vy
+    )
     full = np.broadcast_shapes(qx.shape, r.shape, vx.shape, vy.shape, *(a.shape for a in rect))
     cx, cy, hx, hy, hl, hw, evx, evy = rect
     t_enter = np.empty(full)  # becomes the output

@@ -8,6 +8,9 @@ VRU riding ahead in the ego's lane (the paper's "stable following state" of the 
   gentle constant deceleration.
 - Emergency-Brake: it is within D_safe; full emergency deceleration, held until the VRU has cleared the path
   (no conflicting VRU left), then Cruise.
+- A crossing VRU is a threat only when its corridor window overlaps the ego's own occupancy of the conflict
+  zone at the current speed (floored at `arrival_min_speed_mps`), widened by `time_margin_s` (x 1.5 while in
+  Pre-Slow, a hysteresis): a VRU that will have crossed before the ego arrives does not slow it down.
 - Follow: the nearest conflict is a lead VRU moving along the ego path; IDM+ (Schakel, van Arem & Netten 2010,
   the Intelligent Driver Model of Treiber et al. 2000 with its equilibrium gap equal to s*) follows it:
   a = a_max min(1 - (v / v_cruise)^4, 1 - (s* / gap)^2) with
@@ -23,7 +26,9 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
-from vrusim.planners.conflict import ConflictTracker
+from numba import njit
+
+from vrusim.planners.conflict import analyse_vru, update_track
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.observation import Observation
@@ -49,6 +54,8 @@ class FsmParams(BaseModel):
     conflict_horizon_s: float = Field(5.0, gt=0)
     corridor_margin_m: float = Field(0.25, ge=0)
     track_memory_s: float = Field(1.0, ge=0, description="how long a lost VRU is still considered, s")
+    time_margin_s: float = Field(1.0, ge=0, description="gap kept between VRU and ego corridor occupancy, s")
+    arrival_min_speed_mps: float = Field(1.0, gt=0, description="speed floor for the ego arrival estimate")
 
 
 def planner_params(params: BatchParams) -> list[FsmParams]:
@@ -66,64 +73,103 @@ def planner_params(params: BatchParams) -> list[FsmParams]:
 
 
 class FsmPlanner:
-    """Cruise / Pre-Slow / Emergency-Brake / Follow, per variant."""
+    """Cruise / Pre-Slow / Emergency-Brake / Follow, per variant (one compiled kernel per step)."""
 
     mode_names = ("cruise", "pre_slow", "emergency_brake", "follow")
 
     def reset(self, params: BatchParams) -> None:
         """Read per-variant parameters and start every variant in Cruise."""
         per_variant = planner_params(params)
-
-        def column(name: str) -> np.ndarray:
-            return np.array([getattr(p, name) for p in per_variant])
-
-        self.headway = column("headway_s")
-        self.pre_slow = column("pre_slow_decel_mps2")
-        self.emergency = column("emergency_decel_mps2")
-        self.cruise_accel = column("cruise_accel_mps2")
-        self.cruise_gain = column("cruise_gain_per_s")
-        self.follow_headway = column("follow_headway_s")
-        self.follow_decel = column("follow_decel_mps2")
-        self.comfort_decel = column("follow_comfort_decel_mps2")
-        self.standstill_gap = column("follow_standstill_gap_m")
-        self.lead_ttc = column("lead_emergency_ttc_s")
-        self.conflicts = ConflictTracker(
-            column("conflict_horizon_s"), column("corridor_margin_m"), column("track_memory_s")
-        )
+        self.table = np.array([[getattr(p, name) for name in PARAM_ORDER] for p in per_variant])
+        self.zone_length = 2.0 * params.half_length_m + 2.0 * params.half_width_m
         self.mode = np.zeros(params.size, dtype=np.int8)
+        self.tracks = np.zeros((*params.vru_valid.shape, 5))
+        self.tracks[..., 0] = -np.inf
+        self.station: np.ndarray | None = None
 
     def act(self, obs: Observation) -> np.ndarray:
-        """Update each variant's state from the nearest conflicting VRU; return its acceleration command."""
-        facts = self.conflicts.analyse(obs)
-        distance = np.where(facts.conflict, facts.distance_m, np.inf)
-        nearest = np.argmin(distance, axis=1)[:, None]
-        gap = np.take_along_axis(distance, nearest, axis=1)[:, 0]
-        any_conflict = np.isfinite(gap)
-        is_lead = np.take_along_axis(facts.lead, nearest, axis=1)[:, 0]
-        lead_speed = np.take_along_axis(facts.along_speed_mps, nearest, axis=1)[:, 0]
+        """Update each variant's state from the nearest threatening VRU; return its acceleration command."""
+        if self.station is None:
+            offsets = np.broadcast_to(obs.route_offset[:, None], obs.vru_x_m.shape)
+            self.station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
+        command = np.empty(self.mode.shape)
+        _fsm_step(*obs.routes.arrays, obs.route_offset, obs.t_s, obs.ego_station_m + obs.rear_to_front_m,
+                  obs.ego_speed_mps, obs.cruise_speed_mps, obs.half_width_m, self.zone_length, obs.detected,
+                  obs.vru_x_m, obs.vru_y_m, obs.vru_vx_mps, obs.vru_vy_mps, obs.vru_radius_m, self.table,
+                  self.tracks, self.station, self.mode, command)
+        return command
 
-        speed = obs.ego_speed_mps
-        safe_distance = self.headway * speed
-        closing = speed - lead_speed
-        with np.errstate(divide="ignore", invalid="ignore"):
-            lead_ttc = np.where(closing > 1e-6, gap / closing, np.inf)
-        braking = self.mode == EMERGENCY_BRAKE
-        crossing_mode = np.where(braking | (gap <= safe_distance), EMERGENCY_BRAKE, PRE_SLOW)
-        lead_mode = np.where(lead_ttc < self.lead_ttc, EMERGENCY_BRAKE, FOLLOW)
-        self.mode = np.where(any_conflict, np.where(is_lead, lead_mode, crossing_mode), CRUISE).astype(np.int8)
 
-        cruise = np.clip(self.cruise_gain * (obs.cruise_speed_mps - speed), -self.pre_slow, self.cruise_accel)
-        desired_gap = self.standstill_gap + speed * self.follow_headway + speed * closing / (
-            2.0 * np.sqrt(self.cruise_accel * self.comfort_decel)
-        )
-        desired_gap = np.maximum(desired_gap, self.standstill_gap)
-        with np.errstate(divide="ignore"):
-            interaction = (desired_gap / np.maximum(gap, 1e-3)) ** 2
-        free_road = (speed / np.maximum(obs.cruise_speed_mps, 0.1)) ** 4
-        follow = self.cruise_accel * np.minimum(1.0 - free_road, 1.0 - interaction)
-        follow = np.clip(follow, -self.follow_decel, self.cruise_accel)
-        mode = self.mode
-        return np.where(
-            mode == CRUISE, cruise,
-            np.where(mode == PRE_SLOW, -self.pre_slow, np.where(mode == EMERGENCY_BRAKE, -self.emergency, follow)),
-        )
+PARAM_ORDER = (
+    "headway_s",
+    "pre_slow_decel_mps2",
+    "emergency_decel_mps2",
+    "cruise_accel_mps2",
+    "cruise_gain_per_s",
+    "follow_headway_s",
+    "follow_decel_mps2",
+    "follow_comfort_decel_mps2",
+    "follow_standstill_gap_m",
+    "lead_emergency_ttc_s",
+    "conflict_horizon_s",
+    "corridor_margin_m",
+    "track_memory_s",
+    "time_margin_s",
+    "arrival_min_speed_mps",
+)
+(_HEADWAY, _PRE_SLOW, _EMERGENCY, _CRUISE_ACCEL, _CRUISE_GAIN, _FOLLOW_HEADWAY, _FOLLOW_DECEL, _COMFORT_DECEL,
+ _STANDSTILL, _LEAD_TTC, _HORIZON, _MARGIN, _MEMORY, _TIME_MARGIN, _ARRIVAL_SPEED) = range(len(PARAM_ORDER))
+
+
+@njit(cache=True)
+def _fsm_step(xs, ys, kappas, inv_spacing, width, offsets, t, front_station, speed, cruise_speed, half_width,
+              zone_length, detected, vru_x, vru_y, vru_vx, vru_vy, radius, p, tracks, station, mode,
+              command):  # pragma: no cover (compiled)
+    B, K = vru_x.shape
+    for b in range(B):
+        v = speed[b]
+        arrival_speed = max(v, p[b, _ARRIVAL_SPEED])
+        margin = p[b, _TIME_MARGIN] * (1.5 if mode[b] == PRE_SLOW else 1.0)
+        gap, lead_speed, is_lead = np.inf, 0.0, False
+        for k in range(K):
+            known, x, y, vx, vy = update_track(t, detected[b, k], vru_x[b, k], vru_y[b, k], vru_vx[b, k],
+                                               vru_vy[b, k], p[b, _MEMORY], tracks[b, k])
+            if not known:
+                continue
+            s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
+                xs, ys, kappas, inv_spacing, width, offsets[b], station[b, k], front_station[b], half_width[b],
+                radius[b, k], p[b, _MARGIN], p[b, _HORIZON], x, y, vx, vy)
+            station[b, k] = s
+            if not conflict:
+                continue
+            arrive = distance / arrival_speed
+            clear = (distance + zone_length[b] + 2.0 * radius[b, k]) / arrival_speed
+            overlap = t_in <= clear + margin and t_out >= arrive - margin
+            if (lead or overlap or mode[b] == EMERGENCY_BRAKE) and distance < gap:
+                gap, lead_speed, is_lead = distance, along, lead
+        if gap == np.inf:
+            mode[b] = CRUISE
+        elif is_lead:
+            closing = v - lead_speed
+            ttc = gap / closing if closing > 1e-6 else np.inf
+            mode[b] = EMERGENCY_BRAKE if ttc < p[b, _LEAD_TTC] else FOLLOW
+        elif mode[b] == EMERGENCY_BRAKE or gap <= p[b, _HEADWAY] * v:
+            mode[b] = EMERGENCY_BRAKE
+        else:
+            mode[b] = PRE_SLOW
+        if mode[b] == CRUISE:
+            a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
+            command[b] = min(max(a, -p[b, _PRE_SLOW]), p[b, _CRUISE_ACCEL])
+        elif mode[b] == PRE_SLOW:
+            command[b] = -p[b, _PRE_SLOW]
+        elif mode[b] == EMERGENCY_BRAKE:
+            command[b] = -p[b, _EMERGENCY]
+        else:  # IDM+ toward the lead
+            a_max, comfort = p[b, _CRUISE_ACCEL], p[b, _COMFORT_DECEL]
+            desired = p[b, _STANDSTILL] + v * p[b, _FOLLOW_HEADWAY] + v * (v - lead_speed) / (
+                2.0 * np.sqrt(a_max * comfort))
+            desired = max(desired, p[b, _STANDSTILL])
+            free_road = (v / max(cruise_speed[b], 0.1)) ** 4
+            interaction = (desired / max(gap, 1e-3)) ** 2
+            a = a_max * min(1.0 - free_road, 1.0 - interaction)
+            command[b] = min(max(a, -p[b, _FOLLOW_DECEL]), a_max)

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from vrusim.scenario.schema import Ego, Vru
 
@@ -169,36 +170,91 @@ class PathTable:
         self._kappa = np.ascontiguousarray(table[:, :, 4]).ravel()
         self.samples = table
 
+    @property
+    def arrays(self) -> tuple:
+        """(x, y, curvature, 1 / spacing, width): what compiled kernels need to evaluate the table."""
+        return self._x, self._y, self._kappa, 1.0 / self.spacing_m, self.width
+
     def locate(self, row_offset: np.ndarray, station_m: np.ndarray):
         """Return (x, y, unit tangent x, unit tangent y, curvature) at `station_m` of each path.
 
-        `row_offset` is `row * width` (precomputed by the caller, same shape as `station_m`).
+        `row_offset` is `row * width` (same shape as `station_m`).
         """
-        scaled = station_m * (1.0 / self.spacing_m)
-        index = np.clip(scaled.astype(np.int64), 0, self.width - 2)
-        flat = row_offset + index
-        frac = scaled - index
-        x0 = self._x.take(flat)
-        y0 = self._y.take(flat)
-        dx = self._x.take(flat + 1) - x0
-        dy = self._y.take(flat + 1) - y0
-        inv = 1.0 / np.sqrt(dx * dx + dy * dy)
-        return x0 + frac * dx, y0 + frac * dy, dx * inv, dy * inv, self._kappa.take(flat)
+        shape = np.shape(station_m)
+        out = _locate_many(*self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float))
+        return tuple(a.reshape(shape) for a in out)
 
     def project(self, row_offset: np.ndarray, station_m: np.ndarray, px: np.ndarray, py: np.ndarray, iterations=2):
         """Refine `station_m` toward the foot point of (px, py) on each path by Newton steps (warm start).
 
         Returns (station, path x, path y, tangent x, tangent y, curvature) at the refined station.
         """
-        station = station_m
-        for _ in range(iterations):
-            x, y, tx, ty, kappa = self.locate(row_offset, station)
-            station = station + ((px - x) * tx + (py - y) * ty)
-        return (station, *self.locate(row_offset, station))
+        shape = np.shape(station_m)
+        out = _project_many(*self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float),
+                            np.ravel(px).astype(float), np.ravel(py).astype(float), iterations)
+        return tuple(a.reshape(shape) for a in out)
 
     def project_global(self, rows: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
         """Station of the nearest sample to each point (a cold start for `project`); cost O(N) per point."""
-        xs = self.samples[rows, :, 0]
-        ys = self.samples[rows, :, 1]
-        nearest = np.argmin((xs - px[..., None]) ** 2 + (ys - py[..., None]) ** 2, axis=-1)
-        return nearest * self.spacing_m
+        shape = np.shape(px)
+        nearest = _nearest_sample(self._x, self._y, self.width, np.ravel(rows), np.ravel(px), np.ravel(py))
+        return (nearest * self.spacing_m).reshape(shape)
+
+
+@njit(cache=True, inline="always")
+def locate_point(xs, ys, kappas, inv_spacing, width, offset, station):  # pragma: no cover (compiled)
+    """(x, y, unit tangent x, unit tangent y, curvature) of one path at one station (compiled)."""
+    scaled = station * inv_spacing
+    j = min(max(int(np.floor(scaled)), 0), width - 2)
+    flat = offset + j
+    frac = scaled - j
+    x0, y0 = xs[flat], ys[flat]
+    dx, dy = xs[flat + 1] - x0, ys[flat + 1] - y0
+    inv = 1.0 / np.sqrt(dx * dx + dy * dy)
+    return x0 + frac * dx, y0 + frac * dy, dx * inv, dy * inv, kappas[flat]
+
+
+@njit(cache=True, inline="always")
+def project_point(xs, ys, kappas, inv_spacing, width, offset, station, px, py, iterations):  # pragma: no cover
+    """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
+    for _ in range(iterations):
+        x, y, tx, ty, _k = locate_point(xs, ys, kappas, inv_spacing, width, offset, station)
+        station = station + (px - x) * tx + (py - y) * ty
+    x, y, tx, ty, k = locate_point(xs, ys, kappas, inv_spacing, width, offset, station)
+    return station, x, y, tx, ty, k
+
+
+@njit(cache=True)
+def _locate_many(xs, ys, kappas, inv_spacing, width, offsets, stations):  # pragma: no cover (compiled)
+    n = stations.shape[0]
+    out = np.empty((5, n))
+    for i in range(n):
+        x, y, tx, ty, k = locate_point(xs, ys, kappas, inv_spacing, width, offsets[i], stations[i])
+        out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, y, tx, ty, k
+    return out[0], out[1], out[2], out[3], out[4]
+
+
+@njit(cache=True)
+def _project_many(xs, ys, kappas, inv_spacing, width, offsets, stations, px, py, iterations):  # pragma: no cover
+    n = stations.shape[0]
+    out = np.empty((6, n))
+    for i in range(n):
+        s, x, y, tx, ty, k = project_point(xs, ys, kappas, inv_spacing, width, offsets[i], stations[i],
+                                           px[i], py[i], iterations)
+        out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], out[5, i] = s, x, y, tx, ty, k
+    return out[0], out[1], out[2], out[3], out[4], out[5]
+
+
+@njit(cache=True)
+def _nearest_sample(xs, ys, width, rows, px, py):  # pragma: no cover (compiled)
+    out = np.empty(px.shape[0], dtype=np.int64)
+    for i in range(px.shape[0]):
+        base = rows[i] * width
+        best, best_j = np.inf, 0
+        for j in range(width):
+            dx, dy = xs[base + j] - px[i], ys[base + j] - py[i]
+            d = dx * dx + dy * dy
+            if d < best:
+                best, best_j = d, j
+        out[i] = best_j
+    return out

@@ -39,6 +39,11 @@ def _lift(a: ArrayLike, ndim: int) -> FloatArray:
     return arr
 
 
+def _lift_all(ndim: int, *arrays: ArrayLike) -> list[FloatArray]:
+    """:func:`_lift` applied to several per-rectangle arrays."""
+    return [_lift(a, ndim) for a in arrays]
+
+
 def _circle_arrays(*arrays: ArrayLike) -> list[FloatArray]:
     """Broadcast per-circle inputs to a common shape of at least one dimension (float64 views)."""
     return np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=np.float64)) for a in arrays))
@@ -105,11 +110,6 @@ def to_local_frame(
     return _restore_shape(local_x, shape), _restore_shape(local_y, shape)
 
 
-def _lift_all(ndim: int, *arrays: ArrayLike) -> list[FloatArray]:
-    """:func:`_lift` applied to several per-rectangle arrays."""
-    return [_lift(a, ndim) for a in arrays]
-
-
 def rectangle_circle_clearance(
     center_x: ArrayLike,
     center_y: ArrayLike,
@@ -142,7 +142,9 @@ def rectangle_circle_clearance(
     """
     shape = np.broadcast_shapes(np.shape(circle_x), np.shape(circle_y), np.shape(radius))
     px, py, r = _circle_arrays(circle_x, circle_y, radius)
-    cx, cy, hx, hy, hl, hw = _lift_all(px.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width)
+    cx, cy, hx, hy, hl, hw = _lift_all(
+        px.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width
+    )
     full = np.broadcast_shapes(px.shape, r.shape, cx.shape, cy.shape, hx.shape, hy.shape, hl.shape, hw.shape)
     lx, ly, clearance = np.empty(full), np.empty(full), np.empty(full)  # outputs
     ex, ey = _scratch(2, full)

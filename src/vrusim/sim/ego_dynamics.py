@@ -7,19 +7,23 @@ In the distance domain the error obeys e'' + k_psi e' + k_e e = 0 whatever the s
 
 Longitudinal: the planner's command is clipped to [-max_decel, max_accel], passed through a first-order lag
 (time constant `actuator_lag_s`) and a jerk limit. Position advances exactly for constant acceleration within
-a step, and the ego stops exactly where v reaches 0 (it never rolls backwards).
+a step, and the ego stops exactly where v reaches 0 (it never rolls backwards). Heading turns by
+kappa * distance; position follows the mid-step heading. No trigonometric calls (small-angle rotation).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
+from vrusim.scenario.paths import project_point
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.state import EgoState
 
 
-def rotate(hx: np.ndarray, hy: np.ndarray, angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rotate unit vectors by small angles (rad) without trigonometric calls (5th-order Taylor, renormalised)."""
+@njit(cache=True, inline="always")
+def rotate(hx, hy, angle):  # pragma: no cover (compiled)
+    """Rotate a unit vector by a small angle (rad): 5th-order Taylor sine / cosine, renormalised."""
     a2 = angle * angle
     c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0))
     s = angle * (1.0 - a2 * ((1.0 / 6.0) - a2 * (1.0 / 120.0)))
@@ -28,50 +32,48 @@ def rotate(hx: np.ndarray, hy: np.ndarray, angle: np.ndarray) -> tuple[np.ndarra
     return rx * inv, ry * inv
 
 
-def track_route(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Project the rear axle onto its route; return (station m, lateral error m, commanded curvature 1/m)."""
-    station, px, py, tx, ty, kappa = params.routes.project(
-        params.route_offset, ego.station_m, ego.x_m, ego.y_m, iterations=1
-    )
-    lateral = tx * (ego.y_m - py) - ty * (ego.x_m - px)
-    sin_heading_error = tx * ego.heading_y - ty * ego.heading_x
-    command = kappa - params.lateral_gain * lateral - params.heading_gain * sin_heading_error
-    return station, lateral, np.clip(command, -params.max_curvature_per_m, params.max_curvature_per_m)
+def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) -> None:
+    """Advance every ego by one step under the planner's acceleration command (m/s^2), in place."""
+    _advance(*params.routes.arrays, params.route_offset, params.lateral_gain, params.heading_gain,
+             params.max_curvature_per_m, params.max_accel_mps2, params.max_decel_mps2, params.lag_s,
+             params.max_jerk_mps3, params.dt_s, np.ascontiguousarray(accel_command, dtype=float), ego.x_m,
+             ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2,
+             ego.station_m, ego.curvature_per_m, ego.lateral_error_m)
 
 
-def actuate(params: BatchParams, actuator: np.ndarray, command: np.ndarray) -> np.ndarray:
-    """Actuator output after clipping, first-order lag and jerk limit, m/s^2."""
-    dt = params.dt_s
-    wanted = np.clip(command, -params.max_decel_mps2, params.max_accel_mps2)
-    blend = np.minimum(dt / np.maximum(params.lag_s, 1e-12), 1.0)
-    wanted = actuator + (wanted - actuator) * blend
-    max_change = params.max_jerk_mps3 * dt
-    return actuator + np.clip(wanted - actuator, -max_change, max_change)
-
-
-def step_ego(params: BatchParams, ego: EgoState, accel_command: np.ndarray) -> EgoState:
-    """Advance every ego by one time step under the planner's acceleration command (m/s^2)."""
-    dt = params.dt_s
-    station, _, curvature = track_route(params, ego)
-    actuator = actuate(params, ego.actuator_mps2, accel_command)
-    speed = ego.speed_mps
-    new_speed = speed + actuator * dt
-    stops = new_speed < 0.0
-    # exact distance for constant acceleration; when stopping, v^2 / (2 |a|)
-    distance = np.where(stops, speed * speed / (2.0 * np.maximum(-actuator, 1e-12)),
-                        (speed + new_speed) * (0.5 * dt))
-    new_speed = np.maximum(new_speed, 0.0)
-    turn = curvature * distance
-    mid_x, mid_y = rotate(ego.heading_x, ego.heading_y, 0.5 * turn)
-    heading_x, heading_y = rotate(ego.heading_x, ego.heading_y, turn)
-    return EgoState(
-        x_m=ego.x_m + distance * mid_x,
-        y_m=ego.y_m + distance * mid_y,
-        heading_x=heading_x,
-        heading_y=heading_y,
-        speed_mps=new_speed,
-        accel_mps2=(new_speed - speed) * (1.0 / dt),
-        actuator_mps2=actuator,
-        station_m=station + distance,
-        curvature_per_m=curvature,
-    )
+@njit(cache=True)
+def _advance(xs, ys, kappas, inv_spacing, width, offsets, k_lat, k_head, max_kappa, max_accel, max_decel, lag,
+             max_jerk, dt, command, x, y, hx, hy, speed, accel, actuator, station, curvature,
+             lateral_error):  # pragma: no cover (compiled)
+    for b in range(x.shape[0]):
+        # lateral: track the route from the current pose
+        s, px, py, tx, ty, kappa = project_point(xs, ys, kappas, inv_spacing, width, offsets[b], station[b],
+                                                 x[b], y[b], 1)
+        lateral = tx * (y[b] - py) - ty * (x[b] - px)
+        sin_heading_error = tx * hy[b] - ty * hx[b]
+        turn_rate = kappa - k_lat[b] * lateral - k_head[b] * sin_heading_error
+        turn_rate = min(max(turn_rate, -max_kappa[b]), max_kappa[b])
+        # longitudinal: clip, lag, jerk limit
+        wanted = min(max(command[b], -max_decel[b]), max_accel[b])
+        if lag[b] > 0.0:
+            wanted = actuator[b] + (wanted - actuator[b]) * min(dt / lag[b], 1.0)
+        change = min(max(wanted - actuator[b], -max_jerk[b] * dt), max_jerk[b] * dt)
+        act = actuator[b] + change
+        v = speed[b]
+        v_new = v + act * dt
+        if v_new < 0.0:  # stops inside the step
+            distance = v * v / (2.0 * max(-act, 1e-12))
+            v_new = 0.0
+        else:
+            distance = (v + v_new) * 0.5 * dt
+        turn = turn_rate * distance
+        mx, my = rotate(hx[b], hy[b], 0.5 * turn)
+        x[b] += distance * mx
+        y[b] += distance * my
+        hx[b], hy[b] = rotate(hx[b], hy[b], turn)
+        accel[b] = (v_new - v) / dt
+        speed[b] = v_new
+        actuator[b] = act
+        station[b] = s + distance
+        curvature[b] = turn_rate
+        lateral_error[b] = lateral

@@ -21,12 +21,12 @@ from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.batch import BatchParams, pack
 from vrusim.sim.contact import rectangle_circle_clearance
-from vrusim.sim.ego_dynamics import step_ego
+from vrusim.sim.ego_dynamics import advance_egos
 from vrusim.sim.observation import Observation, fuse
-from vrusim.sim.sensing import perceived
+from vrusim.sim.sensing import sense
 from vrusim.sim.state import ego_centre, ego_front, initial_ego, initial_vrus
 from vrusim.sim.v2x import Channel, IdealChannel, rsu_broadcast
-from vrusim.sim.vru_motion import step_vrus, triggered
+from vrusim.sim.vru_motion import advance_vrus
 
 
 @dataclass
@@ -49,14 +49,14 @@ def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
 
 
 def simulate(
-    scenarios: Sequence[Scenario],
+    scenarios: Sequence[Scenario] | BatchParams,
     planner: Planner | None = None,
     channel: Channel | None = None,
     trace: bool = False,
 ) -> BatchRun:
-    """Run scenarios as one batch and return the streamed results (and a full trace when asked)."""
-    params = pack(list(scenarios))
-    planner = planner if planner is not None else _planner_for(scenarios)
+    """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace."""
+    params = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    planner = planner if planner is not None else _planner_for(params.scenarios)
     channel = channel if channel is not None else IdealChannel()
     planner.reset(params)
     channel.reset(params)
@@ -64,7 +64,6 @@ def simulate(
     metrics = RunMetrics(params, len(mode_names))
     ego = initial_ego(params)
     vrus = initial_vrus(params)
-    started = np.zeros(params.vru_valid.shape, dtype=bool)
     active = np.ones(params.size, dtype=bool)
     dt = params.dt_s
     recorder = _TraceRecorder() if trace else None
@@ -72,10 +71,7 @@ def simulate(
     for step in range(params.n_steps):  # noqa: B007 (the count is reported)
         t = step * dt
         front_x, front_y = ego_front(params, ego)
-        started = started | triggered(params, t, front_x, front_y, ego.speed_mps)
-        sensed = perceived(front_x, front_y, ego.heading_x, ego.heading_y, params.sensor_range_m,
-                           params.sensor_cos_half, params.sensor_sin_half, vrus.x_m, vrus.y_m,
-                           params.vru_radius_m, params.sensor_enabled)
+        sensed = sense(params, front_x, front_y, ego, vrus)
         centre_x, centre_y = ego_centre(params, ego)
         messages = channel.deliver(t, rsu_broadcast(params, centre_x, centre_y, vrus.x_m, vrus.y_m,
                                                     vrus.vx_mps, vrus.vy_mps))
@@ -94,8 +90,8 @@ def simulate(
         if old_mode is not None:
             metrics.record_modes(t, active, old_mode, planner.mode)
         moving_before = ego.speed_mps > 0.0
-        vrus = step_vrus(params, vrus, started)
-        ego = step_ego(params, ego, command)
+        advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps)
+        advance_egos(params, ego, command)
         t_next = (step + 1) * dt
 
         centre_x, centre_y = ego_centre(params, ego)
@@ -108,26 +104,14 @@ def simulate(
             centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m, params.half_width_m,
             ego_vx, ego_vy, vrus.x_m, vrus.y_m, params.vru_radius_m, vrus.vx_mps, vrus.vy_mps,
         )
-
-        def contact_info(clearance=clearance, outline_x=outline_x, outline_y=outline_y, ego=ego,
-                         ego_vx=ego_vx, ego_vy=ego_vy, vrus=vrus):
-            index = np.argmin(clearance, axis=1)
-            pick = index[:, None]
-            rvx = ego_vx - np.take_along_axis(vrus.vx_mps, pick, axis=1)[:, 0]
-            rvy = ego_vy - np.take_along_axis(vrus.vy_mps, pick, axis=1)[:, 0]
-            return (index, np.hypot(rvx, rvy), rvx * ego.heading_x + rvy * ego.heading_y,
-                    np.take_along_axis(outline_x, pick, axis=1)[:, 0],
-                    np.take_along_axis(outline_y, pick, axis=1)[:, 0])
-
-        metrics.record_step(t_next, active, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2, ego.curvature_per_m,
-                            moving_before, clearance, ttc, ego.station_m, contact_info)
+        metrics.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus.vx_mps,
+                            vrus.vy_mps)
         if recorder is not None:
             recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
-        arrived = ~np.isnan(metrics.travel_time_s)
         active = (
             active
             & ~(params.stop_on_collision & metrics.collided)
-            & ~(params.stop_at_route_end & arrived)
+            & ~(params.stop_at_route_end & (metrics.travel_time_s >= 0.0))
             & (t_next < params.duration_s - 1e-9)
         )
         if not active.any():

@@ -9,27 +9,67 @@ sector is at most its radius. The sensor is ideal: a perceived VRU's true positi
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def sector_distance(dx, dy, hx, hy, range_m, cos_half, sin_half):  # pragma: no cover (compiled)
+    """Distance (m) from a point at offset (dx, dy) from the apex to the filled sector (0 inside)."""
+    along = dx * hx + dy * hy
+    across = abs(hx * dy - hy * dx)
+    dist = np.sqrt(dx * dx + dy * dy)
+    if along >= dist * cos_half:  # inside the opening angle
+        return max(dist - range_m, 0.0)
+    # nearest point on the boundary segment on the point's side (the sector is mirror-symmetric)
+    proj = min(max(along * cos_half + across * sin_half, 0.0), range_m)
+    ex, ey = along - proj * cos_half, across - proj * sin_half
+    return np.sqrt(ex * ex + ey * ey)
+
+
+@njit(cache=True)
+def _distances(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, px, py):  # pragma: no cover (compiled)
+    B, K = px.shape
+    out = np.empty((B, K))
+    for b in range(B):
+        for k in range(K):
+            out[b, k] = sector_distance(px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b], range_m[b],
+                                        cos_half[b], sin_half[b])
+    return out
+
+
+@njit(cache=True)
+def _perceived(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius,
+               out):  # pragma: no cover (compiled)
+    B, K = px.shape
+    for b in range(B):
+        for k in range(K):
+            out[b, k] = enabled[b] and sector_distance(px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b],
+                                                       range_m[b], cos_half[b], sin_half[b]) <= radius[b, k]
+
+
+def sense(params, front_x: np.ndarray, front_y: np.ndarray, ego, vrus) -> np.ndarray:
+    """Which VRUs [B, K] each ego's sensor perceives now (engine fast path of `perceived`)."""
+    out = np.empty(vrus.x_m.shape, dtype=bool)
+    _perceived(front_x, front_y, ego.heading_x, ego.heading_y, params.sensor_range_m, params.sensor_cos_half,
+               params.sensor_sin_half, params.sensor_enabled, vrus.x_m, vrus.y_m, params.vru_radius_m, out)
+    return out
+
+
+def _batch(a) -> np.ndarray:
+    return np.atleast_1d(np.asarray(a, dtype=float))
 
 
 def distance_to_sector(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half, px, py) -> np.ndarray:
     """Distance (m) from points [B, K] to the filled sectors [B] (0 inside). No trigonometric calls."""
-    dx = px - apex_x[:, None]
-    dy = py - apex_y[:, None]
-    hx, hy = heading_x[:, None], heading_y[:, None]
-    along = dx * hx + dy * hy
-    across = np.abs(hx * dy - hy * dx)
-    dist = np.sqrt(dx * dx + dy * dy)
-    radial = np.maximum(dist - range_m[:, None], 0.0)
-    c, s = cos_half[:, None], sin_half[:, None]
-    # nearest point on the boundary segment on the point's side (the sector is mirror-symmetric)
-    proj = np.clip(along * c + across * s, 0.0, range_m[:, None])
-    ex, ey = along - proj * c, across - proj * s
-    edge = np.sqrt(ex * ex + ey * ey)
-    inside_angle = along >= dist * c
-    return np.where(inside_angle, radial, edge)
+    apex = [_batch(a) for a in (apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half)]
+    px, py = np.asarray(px, dtype=float), np.asarray(py, dtype=float)
+    shape = np.broadcast_shapes(px.shape, py.shape, (apex[0].shape[0], 1))
+    px2 = np.ascontiguousarray(np.broadcast_to(px, shape)).reshape(shape[0], -1)
+    py2 = np.ascontiguousarray(np.broadcast_to(py, shape)).reshape(shape[0], -1)
+    return _distances(*apex, px2, py2).reshape(shape)
 
 
 def perceived(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half, px, py, radius, enabled):
     """Which VRU footprints [B, K] intersect each ego's sensor sector."""
     gap = distance_to_sector(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half, px, py)
-    return (gap <= radius) & enabled[:, None]
+    return (gap <= radius) & np.asarray(enabled)[:, None]

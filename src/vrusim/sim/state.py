@@ -25,6 +25,8 @@ class EgoState:
     station_m: np.ndarray
     """Rear-axle station along the route, m."""
     curvature_per_m: np.ndarray
+    lateral_error_m: np.ndarray
+    """Rear-axle offset from the route at the start of the last step, m (left positive)."""
 
 
 @dataclass
@@ -45,14 +47,15 @@ def initial_ego(params: BatchParams) -> EgoState:
     zeros = np.zeros(params.size)
     x, y, tx, ty, kappa = params.routes.locate(params.route_offset, zeros)
     return EgoState(x, y, tx, ty, params.start_speed_mps.copy(), zeros.copy(), zeros.copy(), zeros.copy(),
-                    np.zeros(params.size))
+                    zeros.copy(), zeros.copy())
 
 
 def initial_vrus(params: BatchParams) -> VruState:
     """VRUs at rest at the start of their paths."""
     zeros = np.zeros(params.vru_valid.shape)
     x, y, _, _, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
-    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), x, y, zeros.copy(), zeros.copy())
+    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), x.copy(), y.copy(),
+                    zeros.copy(), zeros.copy())
 
 
 def ego_front(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray]:

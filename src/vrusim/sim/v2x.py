@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
+from numba import njit
 
 from vrusim.sim.batch import BatchParams
 
@@ -48,10 +49,23 @@ class IdealChannel:
 
 
 def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_x, vru_y, vru_vx, vru_vy) -> V2xMessages:
-    """What the RSU sends to each ego this step: VRUs in its coverage, if the ego is within range."""
-    ex, ey = ego_x - params.rsu_x_m, ego_y - params.rsu_y_m
-    ego_in_range = params.v2x_enabled & (ex * ex + ey * ey <= params.comm_range_m**2)
-    vx, vy = vru_x - params.rsu_x_m[:, None], vru_y - params.rsu_y_m[:, None]
-    covered = vx * vx + vy * vy <= (params.coverage_range_m**2)[:, None]
-    received = covered & ego_in_range[:, None] & params.vru_valid
+    """What the RSU sends to each ego this step: VRUs in its coverage, if the ego is within range.
+
+    The message arrays may be views of the simulation state: a channel that keeps messages must copy them.
+    """
+    received = np.empty(vru_x.shape, dtype=bool)
+    _coverage(params.v2x_enabled, params.rsu_x_m, params.rsu_y_m, params.comm_range_m, params.coverage_range_m,
+              params.vru_valid, ego_x, ego_y, vru_x, vru_y, received)
     return V2xMessages(received, vru_x, vru_y, vru_vx, vru_vy, np.zeros(received.shape))
+
+
+@njit(cache=True)
+def _coverage(enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y,
+              received):  # pragma: no cover (compiled)
+    B, K = vru_x.shape
+    for b in range(B):
+        ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
+        in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
+        for k in range(K):
+            vx, vy = vru_x[b, k] - rsu_x[b], vru_y[b, k] - rsu_y[b]
+            received[b, k] = in_range and valid[b, k] and vx * vx + vy * vy <= coverage[b] * coverage[b]

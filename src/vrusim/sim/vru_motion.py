@@ -2,38 +2,49 @@
 
 Along the path, acceleration a = clip((v_target - v) / max(tau, dt), -a_max, a_max): with tau = 0 the VRU
 accelerates at a_max from rest and holds its top speed exactly (Euro NCAP targets); tau > 0 gives the
-exponential approach of the social-force driving term (Helbing & Molnár 1995). Once triggered, a VRU follows
-its profile open-loop: it never reacts to the ego.
+exponential approach of the social-force driving term (Helbing & Molnár 1995). A VRU stands still until its
+trigger fires (at a time; or when the ego's front bumper is within a distance, or a time-to-arrival at its
+current speed, of a point); from then on it follows its profile open-loop and never reacts to the ego.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
+from vrusim.scenario.paths import locate_point
 from vrusim.sim.batch import TRIGGER_DISTANCE, TRIGGER_TIME, BatchParams
 from vrusim.sim.state import VruState
 
 
-def triggered(params: BatchParams, t_s: float, front_x: np.ndarray, front_y: np.ndarray,
-              ego_speed: np.ndarray) -> np.ndarray:
-    """Which VRUs' start conditions hold at time t_s, given the ego's front-bumper position and speed. [B, K]"""
-    dx = params.trigger_x_m - front_x[:, None]
-    dy = params.trigger_y_m - front_y[:, None]
-    distance = np.sqrt(dx * dx + dy * dy)
-    by_time = t_s >= params.trigger_value - 1e-9
-    by_distance = distance <= params.trigger_value
-    by_arrival = distance <= params.trigger_value * ego_speed[:, None]
-    kind = params.trigger_kind
-    return np.where(kind == TRIGGER_TIME, by_time, np.where(kind == TRIGGER_DISTANCE, by_distance, by_arrival))
+def advance_vrus(params: BatchParams, vrus: VruState, t_s: float, front_x: np.ndarray, front_y: np.ndarray,
+                 ego_speed: np.ndarray) -> None:
+    """Fire triggers from the ego state at t_s, then advance every VRU by one step (in place)."""
+    _advance(*params.vru_paths.arrays, params.vru_path_offset, params.trigger_kind, params.trigger_value,
+             params.trigger_x_m, params.trigger_y_m, params.vru_top_speed_mps, params.vru_max_accel_mps2,
+             params.vru_tau_s, params.dt_s, t_s, front_x, front_y, ego_speed, vrus.started, vrus.station_m,
+             vrus.speed_mps, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps)
 
 
-def step_vrus(params: BatchParams, vrus: VruState, started: np.ndarray) -> VruState:
-    """Advance every VRU by one time step."""
-    dt = params.dt_s
-    target = np.where(started, params.vru_top_speed_mps, 0.0)
-    tau = np.maximum(params.vru_tau_s, dt)
-    accel = np.clip((target - vrus.speed_mps) / tau, -params.vru_max_accel_mps2, params.vru_max_accel_mps2)
-    speed = vrus.speed_mps + accel * dt
-    station = vrus.station_m + (vrus.speed_mps + speed) * (0.5 * dt)
-    x, y, tx, ty, _ = params.vru_paths.locate(params.vru_path_offset, station)
-    return VruState(started, station, speed, x, y, speed * tx, speed * ty)
+@njit(cache=True)
+def _advance(xs, ys, kappas, inv_spacing, width, offsets, kind, value, point_x, point_y, top, max_accel, tau,
+             dt, t, front_x, front_y, ego_speed, started, station, speed, x, y, vx, vy):  # pragma: no cover
+    B, K = station.shape
+    for b in range(B):
+        for k in range(K):
+            if not started[b, k]:
+                if kind[b, k] == TRIGGER_TIME:
+                    started[b, k] = t >= value[b, k] - 1e-9
+                else:
+                    dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
+                    distance = np.sqrt(dx * dx + dy * dy)
+                    limit = value[b, k] if kind[b, k] == TRIGGER_DISTANCE else value[b, k] * ego_speed[b]
+                    started[b, k] = distance <= limit
+            target = top[b, k] if started[b, k] else 0.0
+            accel = (target - speed[b, k]) / max(tau[b, k], dt)
+            accel = min(max(accel, -max_accel[b, k]), max_accel[b, k])
+            new_speed = speed[b, k] + accel * dt
+            station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
+            speed[b, k] = new_speed
+            px, py, tx, ty, _ = locate_point(xs, ys, kappas, inv_spacing, width, offsets[b, k], station[b, k])
+            x[b, k], y[b, k], vx[b, k], vy[b, k] = px, py, new_speed * tx, new_speed * ty

@@ -1,0 +1,259 @@
+"""Bad scenario input gives one clear UserInputError whose message names the offending field (or file)."""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from vrusim.errors import UserInputError
+from vrusim.scenario.loading import load_scenario, scenario_from_mapping
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.engine import simulate
+
+PAPER_FILES = sorted((Path(__file__).resolve().parents[1] / "scenarios" / "paper").glob("*.yaml"))
+
+
+def field_lines(message: str) -> list[str]:
+    """The per-field lines of a validation message (after the `<source>: invalid scenario` header)."""
+    lines = message.splitlines()
+    assert lines[0].endswith("invalid scenario"), message
+    return [line.strip() for line in lines[1:]]
+
+
+def rejected(data: Any) -> str:
+    with pytest.raises(UserInputError) as info:
+        scenario_from_mapping(data, "case.yaml")
+    message = str(info.value)
+    assert message.startswith("case.yaml: ")
+    return message
+
+
+def only_field(message: str) -> tuple[str, str]:
+    """Assert exactly one offending field is reported; return (field path, reason)."""
+    lines = field_lines(message)
+    assert len(lines) == 1, message
+    path, _, reason = lines[0].partition(": ")
+    return path, reason
+
+
+def set_vru0(key: str, value: Any) -> Callable[[dict], None]:
+    def change(d: dict) -> None:
+        d["vrus"][0][key] = value
+
+    return change
+
+
+CASES = [
+    # (id, mutation of the minimal scenario, expected field path, regex the reason must match)
+    (
+        "unknown-field",
+        lambda d: d["ego"].update(cruise_sped_mps=12.0),
+        "ego.cruise_sped_mps",
+        r"^unknown field$",
+    ),
+    ("unknown-top-level", lambda d: d.update(vehicle={}), "vehicle", r"^unknown field$"),
+    (
+        "string-speed",
+        lambda d: d["ego"].update(cruise_speed_mps="fast"),
+        "ego.cruise_speed_mps",
+        r"valid number",
+    ),
+    ("negative-speed", set_vru0("top_speed_mps", -1.0), "vrus[0].top_speed_mps", r"greater than 0"),
+    ("zero-speed", set_vru0("top_speed_mps", 0.0), "vrus[0].top_speed_mps", r"greater than 0"),
+    (
+        "negative-cruise",
+        lambda d: d["ego"].update(cruise_speed_mps=-3.0),
+        "ego.cruise_speed_mps",
+        r"greater than or",
+    ),
+    ("dt-zero", lambda d: d["sim"].update(dt_s=0.0), "sim.dt_s", r"greater than 0"),
+    ("dt-negative", lambda d: d["sim"].update(dt_s=-0.01), "sim.dt_s", r"greater than 0"),
+    ("fov-zero", lambda d: d.update(sensor={"fov_deg": 0}), "sensor.fov_deg", r"greater than 0"),
+    ("fov-361", lambda d: d.update(sensor={"fov_deg": 361}), "sensor.fov_deg", r"less than or equal to 360"),
+    (
+        "vru-inside-ego",
+        set_vru0("start", {"x_m": 1.0, "y_m": 0.5}),
+        "vrus",
+        r"vrus\[0\] starts overlapping the ego",
+    ),
+    (
+        "trigger-two-conditions",
+        set_vru0("trigger", {"at_time_s": 1.0, "ego_distance_m": 10.0, "point": [0.0, 0.0]}),
+        "vrus[0].trigger",
+        r"exactly one of",
+    ),
+    ("trigger-none", set_vru0("trigger", {}), "vrus[0].trigger", r"exactly one of"),
+    ("trigger-no-point", set_vru0("trigger", {"ego_distance_m": 10.0}), "vrus[0].trigger", r"needs `point`"),
+    ("v2x-without-rsu", lambda d: d.update(v2x={"enabled": True}), "v2x", r"rsu"),
+    ("point-triple", set_vru0("start", [1.0, 2.0, 3.0]), "vrus[0].start", r"\[x_m, y_m\]"),
+    ("nested-point-type", lambda d: d["ego"]["start"].update(x_m="left"), "ego.start.x_m", r"valid number"),
+    ("no-vrus", lambda d: d.update(vrus=[]), "vrus", r"at least 1"),
+    ("missing-ego", lambda d: d.pop("ego"), "ego", r"[Ff]ield required"),
+    ("bad-vru-type", set_vru0("type", "horse"), "vrus[0].type", r"pedestrian"),
+    (
+        "route-too-short",
+        lambda d: d["ego"].update(route={"kind": "left", "turn_at_m": 10, "length_m": 12}),
+        "ego.route",
+        r"length_m must cover",
+    ),
+]
+
+
+@pytest.mark.parametrize(("mutate", "path", "reason"), [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_bad_field_is_named(scenario_dict, mutate, path, reason):
+    mutate(scenario_dict)
+    got_path, got_reason = only_field(rejected(scenario_dict))
+    assert got_path == path
+    assert re.search(reason, got_reason), got_reason
+
+
+def test_unknown_field_message_exact(scenario_dict):
+    scenario_dict["ego"]["cruise_sped_mps"] = 12.0
+    message = rejected(scenario_dict)
+    assert "ego.cruise_sped_mps" in message
+    assert "unknown field" in message
+    assert message == "case.yaml: invalid scenario\n  ego.cruise_sped_mps: unknown field"
+
+
+def test_every_offending_field_is_listed(scenario_dict):
+    scenario_dict["sim"]["dt_s"] = 0.0
+    scenario_dict["sensor"] = {"fov_deg": 400}
+    lines = field_lines(rejected(scenario_dict))
+    assert sorted(line.partition(":")[0] for line in lines) == ["sensor.fov_deg", "sim.dt_s"]
+
+
+def test_vru_overlap_uses_the_rotated_ego(scenario_dict):
+    """Ego heading +y (90°): a VRU 2 m ahead overlaps; one 2 m to the side (in x) does not."""
+    scenario_dict["ego"]["start"] = {"x_m": 0.0, "y_m": 0.0, "heading_deg": 90.0}
+    scenario_dict["vrus"][0]["start"] = {
+        "x_m": 2.0,
+        "y_m": 0.0,
+    }  # 2 m to the right: clear of a 1.8 m wide car
+    scenario_from_mapping(scenario_dict)
+    scenario_dict["vrus"][0]["start"] = {"x_m": 0.0, "y_m": 2.0}  # inside the (4.5 m long) rotated rectangle
+    path, reason = only_field(rejected(scenario_dict))
+    assert path == "vrus"
+    assert "vrus[0]" in reason
+
+
+def test_second_vru_overlap_names_its_index(scenario_dict):
+    scenario_dict["vrus"].append({"type": "cyclist", "start": [2.9, 0.0], "heading_deg": 0.0})
+    path, reason = only_field(rejected(scenario_dict))
+    assert path == "vrus"
+    assert "vrus[1] starts overlapping" in reason
+
+
+def test_top_level_list_is_rejected():
+    with pytest.raises(UserInputError, match=r"^x\.yaml: expected a mapping"):
+        scenario_from_mapping([{"name": "a"}], "x.yaml")
+
+
+# ----------------------------------------------------------------------------------------------------------
+# Files
+# ----------------------------------------------------------------------------------------------------------
+def test_missing_file(tmp_path):
+    path = tmp_path / "nope.yaml"
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    assert str(info.value) == f"{path}: no such scenario file"
+
+
+def test_invalid_yaml(tmp_path):
+    path = tmp_path / "broken.yaml"
+    path.write_text("name: [unclosed\nego: {start: \n", encoding="utf-8")
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    assert str(info.value).startswith(f"{path}: not valid YAML")
+
+
+def test_yaml_list_at_top_level(tmp_path):
+    path = tmp_path / "list.yaml"
+    path.write_text("- name: a\n- name: b\n", encoding="utf-8")
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    assert str(info.value) == f"{path}: expected a mapping of scenario fields at the top level"
+
+
+def test_empty_yaml(tmp_path):
+    path = tmp_path / "empty.yaml"
+    path.write_text("", encoding="utf-8")
+    with pytest.raises(UserInputError, match="expected a mapping"):
+        load_scenario(path)
+
+
+def test_file_that_is_not_utf8(tmp_path):
+    path = tmp_path / "binary.yaml"
+    path.write_bytes(b"\xff\xfe\x00name: x\n")
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    assert str(info.value).startswith(f"{path}: cannot read scenario file")
+
+
+def test_directory_instead_of_file(tmp_path):
+    with pytest.raises(UserInputError) as info:
+        load_scenario(tmp_path)
+    assert str(info.value).startswith(f"{tmp_path}: cannot read scenario file")
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root can read any file")
+def test_unreadable_file(tmp_path):
+    path = tmp_path / "secret.yaml"
+    path.write_text("name: x\n", encoding="utf-8")
+    path.chmod(0)
+    try:
+        with pytest.raises(UserInputError, match="cannot read scenario file"):
+            load_scenario(path)
+    finally:
+        path.chmod(0o600)
+
+
+def test_field_error_from_file_names_file_and_field(tmp_path):
+    path = tmp_path / "bad_speed.yaml"
+    path.write_text(
+        "name: t\nego: {start: [0, 0], cruise_speed_mps: 10}\n"
+        "vrus:\n  - {type: pedestrian, start: [30, -5], heading_deg: 90, top_speed_mps: -2}\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: invalid scenario")
+    assert only_field(message)[0] == "vrus[0].top_speed_mps"
+
+
+def test_unknown_planner_parameter_is_named(scenario_dict):
+    scenario_dict["planner"] = {"name": "fsm", "params": {"headway_sec": 2.0}}
+    scenario = scenario_from_mapping(scenario_dict)
+    with pytest.raises(UserInputError) as info:
+        simulate([scenario])
+    assert "planner.params.headway_sec" in str(info.value)
+    assert "unknown field" in str(info.value)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# The paper scenarios
+# ----------------------------------------------------------------------------------------------------------
+def test_three_paper_scenarios_present():
+    assert sorted(p.name for p in PAPER_FILES) == [
+        "escooter_leading.yaml",
+        "motorcyclist_crossing.yaml",
+        "pedestrian_crossing.yaml",
+    ]
+
+
+@pytest.mark.parametrize("path", PAPER_FILES, ids=lambda p: p.stem)
+def test_paper_scenarios_load(path):
+    scenario = load_scenario(path)
+    assert isinstance(scenario, Scenario)
+    assert scenario.name.startswith("paper-")
+    assert scenario.ego.cruise_speed_mps > 0
+    assert scenario.sensor.range_m == 20.0
+    assert scenario.sensor.fov_deg == 120.0
+    assert len(scenario.vrus) == 1
+    # the model round-trips through a plain mapping unchanged
+    assert scenario_from_mapping(scenario.model_dump(mode="json")) == scenario
