@@ -58,8 +58,14 @@ def measure(size: int, repeats: int, duration_s: float) -> dict:
         best_run = min(best_run, time.perf_counter() - packed)
         steps = run.steps
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    return {"batch": size, "steps": steps, "pack_s": round(best_pack, 4), "run_s": round(best_run, 4),
-            "scenario_steps_per_s": round(size * steps / best_run), "peak_rss_mb": round(peak_mb, 1)}
+    return {
+        "batch": size,
+        "steps": steps,
+        "pack_s": round(best_pack, 4),
+        "run_s": round(best_run, 4),
+        "scenario_steps_per_s": round(size * steps / best_run),
+        "peak_rss_mb": round(peak_mb, 1),
+    }
 
 
 def main() -> None:
@@ -75,13 +81,25 @@ def main() -> None:
     print(f"{'B':>7} {'steps':>6} {'pack s':>8} {'run s':>8} {'scenario-steps/s':>17} {'peak RSS MB':>12}")
     for size in args.sizes:
         out = subprocess.run(
-            [sys.executable, __file__, "--one", str(size), "--repeats", str(args.repeats),
-             "--duration", str(args.duration)],
-            check=True, capture_output=True, text=True,
+            [
+                sys.executable,
+                __file__,
+                "--one",
+                str(size),
+                "--repeats",
+                str(args.repeats),
+                "--duration",
+                str(args.duration),
+            ],
+            check=True,
+            capture_output=True,
+            text=True,
         )
         row = json.loads(out.stdout)
-        print(f"{row['batch']:>7} {row['steps']:>6} {row['pack_s']:>8} {row['run_s']:>8} {row['scenario_steps_per_s']:>17,} "
-              f"{row['peak_rss_mb']:>12}")
+        print(
+            f"{row['batch']:>7} {row['steps']:>6} {row['pack_s']:>8} {row['run_s']:>8} "
+            f"{row['scenario_steps_per_s']:>17,} {row['peak_rss_mb']:>12}"
+        )
 
 
 if __name__ == "__main__":

@@ -33,6 +33,11 @@ def minimal_scenario_dict() -> dict[str, Any]:
             "start": {"x_m": 0.0, "y_m": 0.0, "heading_deg": 0.0},
             "cruise_speed_mps": 10.0,
             "route": {"kind": "straight", "length_m": 200.0},
+            # explicit geometry (tests compute the rear axle and front bumper from these numbers)
+            "length_m": 4.5,
+            "width_m": 1.8,
+            "wheelbase_m": 2.7,
+            "rear_overhang_m": 0.9,
         },
         "planner": {"name": "none"},
         "vrus": [copy.deepcopy(FAR_VRU)],

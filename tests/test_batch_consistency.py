@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
+from vrusim.metrics import streaming
 from vrusim.metrics.streaming import RunMetrics
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.engine import simulate
@@ -21,8 +22,19 @@ stopped while the rest of its batch runs on, so it legitimately differs between 
 
 
 def metric_arrays(metrics: RunMetrics) -> dict[str, np.ndarray]:
-    """Every array-valued field of RunMetrics."""
-    return {name: value for name, value in vars(metrics).items() if isinstance(value, np.ndarray)}
+    """Every per-variant array field of RunMetrics (first axis = variant), by name.
+
+    Plain array attributes, plus the accumulator rows that RunMetrics may keep in one packed `values` array
+    and expose as attributes (listed in `streaming.FIELDS`).
+    """
+    size = metrics.params.size
+    names = {name for name, value in vars(metrics).items() if isinstance(value, np.ndarray)}
+    names.discard("values")  # the packed [field, B] store itself; its rows are read by name below
+    names |= set(getattr(streaming, "FIELDS", ()))
+    out = {name: np.asarray(getattr(metrics, name)) for name in sorted(names) if not name.startswith("_")}
+    for name, value in out.items():
+        assert value.shape[:1] == (size,), f"{name}: shape {value.shape}, batch of {size}"
+    return out
 
 
 def variant_transitions(metrics: RunMetrics, b: int) -> list[tuple[float, int, int]]:
@@ -123,7 +135,6 @@ def solo_runs(big_batch, variants):
 def _compared_fields(in_batch: RunMetrics, alone: RunMetrics):
     batch_fields, alone_fields = metric_arrays(in_batch), metric_arrays(alone)
     assert batch_fields.keys() == alone_fields.keys()
-    assert batch_fields.keys() >= SCRATCH_FIELDS
     names = sorted(batch_fields.keys() - SCRATCH_FIELDS)
     assert len(names) >= 20
     return [(name, batch_fields[name], alone_fields[name]) for name in names]

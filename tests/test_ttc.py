@@ -68,9 +68,7 @@ def test_following_rotated_and_translated():
     # Same scene, heading 45 degrees, translated: result must not change.
     hx = hy = S
     ox, oy = 100.0, -50.0
-    t = ttc1(
-        ox, oy, hx, hy, 2.3, 0.9, 15.0 * hx, 15.0 * hy, ox + 30.0 * hx, oy + 30.0 * hy, 0.3, 5 * hx, 5 * hy
-    )
+    t = ttc1(ox, oy, hx, hy, 2.3, 0.9, 15.0 * hx, 15.0 * hy, ox + 30.0 * hx, oy + 30.0 * hy, 0.3, 5 * hx, 5 * hy)
     assert t == pytest.approx(2.74, rel=1e-9)
     # Heading 90 degrees (north), VRU walking north ahead of the car.
     t = ttc1(0.0, 0.0, 0.0, 1.0, 2.3, 0.9, 0.0, 15.0, 0.0, 30.0, 0.3, 0.0, 5.0)
@@ -100,9 +98,7 @@ def test_already_touching_or_overlapping_is_zero():
     assert ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 10.0, 0.0, 1.0, 0.0, 0.3, 0.0, 0.0) == 0.0  # centre inside
     assert ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.5, 0.0, 0.5, 0.0, 0.0) == 0.0  # touching, at rest
     assert ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, -3.0, 0.0, 2.5, 0.0, 0.5, 0.0, 0.0) == 0.0  # touching, receding
-    assert (
-        ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.3, 1.4, 0.5, 1.0, 1.0) == 0.0
-    )  # corner disk, receding
+    assert ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.3, 1.4, 0.5, 1.0, 1.0) == 0.0  # corner disk, receding
     assert ttc1(0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0) == 0.0  # r = 0 on the corner
 
 

@@ -104,9 +104,7 @@ def _version_callback(value: bool) -> None:
 def _root(
     version: Annotated[
         bool,
-        typer.Option(
-            "--version", help="Print the version and exit.", callback=_version_callback, is_eager=True
-        ),
+        typer.Option("--version", help="Print the version and exit.", callback=_version_callback, is_eager=True),
     ] = False,
 ) -> None:
     """Closed-loop simulation of Euro NCAP vulnerable-road-user tests with perception, V2X and planners."""
@@ -131,9 +129,7 @@ def _summary_table(row: dict) -> Table:
     table.add_column("quantity", style="bold")
     table.add_column("value")
     collided = row["collided"]
-    table.add_row(
-        "Outcome", "[bold red]COLLISION[/]" if collided else "[bold green]avoided[/]", end_section=True
-    )
+    table.add_row("Outcome", "[bold red]COLLISION[/]" if collided else "[bold green]avoided[/]", end_section=True)
 
     table.add_row("Contact time", _num(row["contact_time_s"], "s"))
     table.add_row("Impact ego speed", _num(row["impact_ego_speed_mps"], "m/s"))
@@ -149,8 +145,7 @@ def _summary_table(row: dict) -> Table:
     table.add_row("First sensor detection", _num(row["first_sensor_detection_s"], "s"))
     table.add_row("First V2X message", _num(row["first_v2x_message_s"], "s"))
     transitions = [
-        f"{_num(item['t_s'], 's')}  {escape(item['from'])} → {escape(item['to'])}"
-        for item in row["transitions"]
+        f"{_num(item['t_s'], 's')}  {escape(item['from'])} → {escape(item['to'])}" for item in row["transitions"]
     ]
     table.add_row("Planner transitions", "\n".join(transitions) if transitions else "none", end_section=True)
 
@@ -167,9 +162,7 @@ def _summary_table(row: dict) -> Table:
     if row["travel_time_s"] is not None:
         travel = f"{_num(row['travel_time_s'], 's')} (free flow {free})"
     else:
-        travel = (
-            f"route not completed (trip time counted as {_num(row['trip_time_s'], 's')}, free flow {free})"
-        )
+        travel = f"route not completed (trip time counted as {_num(row['trip_time_s'], 's')}, free flow {free})"
     table.add_row("Travel time", travel, end_section=True)
 
     table.add_row("Safety score", _num(row["safety"]))
@@ -180,9 +173,7 @@ def _summary_table(row: dict) -> Table:
 
 @app.command()
 def run(
-    file: Annotated[
-        Path, typer.Argument(metavar="FILE.yaml", help="Scenario YAML file.", show_default=False)
-    ],
+    file: Annotated[Path, typer.Argument(metavar="FILE.yaml", help="Scenario YAML file.", show_default=False)],
     v2x: Annotated[
         V2XSwitch | None,
         typer.Option("--v2x", case_sensitive=False, help="Force V2X on or off (default: as in the file)."),
@@ -271,10 +262,7 @@ def _table_ii(result: dict) -> Table:
             _on_off(case["v2x"]),
             _outcome(paper["collision"]),
             f"[{colour}]{_outcome(ours['collided'])}[/]",
-            *(
-                _score_cell(paper[name], ours[name], tolerance)
-                for name in ("safety", "efficiency", "comfort")
-            ),
+            *(_score_cell(paper[name], ours[name], tolerance) for name in ("safety", "efficiency", "comfort")),
             _mark(case["scores_within_tolerance"]),
         )
     return table
@@ -283,9 +271,7 @@ def _table_ii(result: dict) -> Table:
 def _events_table(result: dict) -> Table:
     tolerance = result["tolerances"]["time_s"]
     titles = {case["case"]: case["title"] for case in result["cases"]}
-    table = Table(
-        title=f"Event times from the figure captions (✓ within ±{tolerance:.1f} s)", box=box.SIMPLE_HEAD
-    )
+    table = Table(title=f"Event times from the figure captions (✓ within ±{tolerance:.1f} s)", box=box.SIMPLE_HEAD)
     table.add_column("Case", no_wrap=True)
     table.add_column("V2X")
     table.add_column("Event")

@@ -40,9 +40,7 @@ def trace_format(path: str | Path) -> str:
     suffix = Path(path).suffix.lower()
     if suffix not in TRACE_SUFFIXES:
         shown = f"'{Path(path).suffix}'" if Path(path).suffix else "no suffix"
-        raise UserInputError(
-            f"{path}: unsupported trace file type ({shown}); use a .csv or .parquet file name"
-        )
+        raise UserInputError(f"{path}: unsupported trace file type ({shown}); use a .csv or .parquet file name")
     return suffix.removeprefix(".")
 
 

@@ -105,23 +105,40 @@ def reproduce() -> dict:
         row["first_reaction_s"] = _first_reaction(row)
         paper_scores = TABLE_II[(case.key, v2x)]
         ours = (row["safety"], row["efficiency"], row["comfort"])
-        cases.append({
-            "case": case.key,
-            "title": case.title,
-            "v2x": v2x,
-            "paper": {"collision": PAPER_COLLIDES[(case.key, v2x)], "safety": paper_scores[0],
-                      "efficiency": paper_scores[1], "comfort": paper_scores[2]},
-            "ours": row,
-            "outcome_matches": row["collided"] == PAPER_COLLIDES[(case.key, v2x)],
-            "scores_within_tolerance": all(abs(a - b) <= SCORE_TOLERANCE + 1e-9 for a, b in zip(ours, paper_scores)),
-        })
+        cases.append(
+            {
+                "case": case.key,
+                "title": case.title,
+                "v2x": v2x,
+                "paper": {
+                    "collision": PAPER_COLLIDES[(case.key, v2x)],
+                    "safety": paper_scores[0],
+                    "efficiency": paper_scores[1],
+                    "comfort": paper_scores[2],
+                },
+                "ours": row,
+                "outcome_matches": row["collided"] == PAPER_COLLIDES[(case.key, v2x)],
+                "scores_within_tolerance": all(
+                    abs(a - b) <= SCORE_TOLERANCE + 1e-9 for a, b in zip(ours, paper_scores, strict=True)
+                ),
+            }
+        )
     events = []
     for event in CAPTION_EVENTS:
         row = next(c["ours"] for c in cases if c["case"] == event.case and c["v2x"] == event.v2x)
         ours = row.get(event.field)
-        events.append({
-            "case": event.case, "v2x": event.v2x, "event": event.label, "paper_s": event.paper_time_s,
-            "ours_s": ours, "within_tolerance": ours is not None and abs(ours - event.paper_time_s) <= TIME_TOLERANCE_S,
-        })
-    return {"cases": cases, "events": events,
-            "tolerances": {"time_s": TIME_TOLERANCE_S, "score": SCORE_TOLERANCE}}
+        events.append(
+            {
+                "case": event.case,
+                "v2x": event.v2x,
+                "event": event.label,
+                "paper_s": event.paper_time_s,
+                "ours_s": ours,
+                "within_tolerance": ours is not None and abs(ours - event.paper_time_s) <= TIME_TOLERANCE_S,
+            }
+        )
+    return {
+        "cases": cases,
+        "events": events,
+        "tolerances": {"time_s": TIME_TOLERANCE_S, "score": SCORE_TOLERANCE},
+    }

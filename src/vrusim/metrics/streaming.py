@@ -12,19 +12,65 @@ from numba import njit
 from vrusim.sim.batch import BatchParams
 
 FIELDS = (
-    "peak_accel_mps2", "peak_decel_mps2", "peak_jerk_mps3", "peak_lateral_accel_mps2",
-    "sum_accel_sq", "sum_jerk_sq", "elapsed_s",
-    "min_clearance_m", "min_clearance_time_s", "min_ttc_s", "min_ttc_time_s", "travel_time_s",
-    "contact_time_s", "impact_ego_speed_mps", "impact_relative_speed_mps", "impact_relative_longitudinal_mps",
-    "impact_local_x_m", "impact_local_y_m", "impact_vru",
-    "first_sensor_s", "first_v2x_s", "end_time_s", "final_speed_mps", "final_station_m",
-    "prev_actuator", "prev_clearance", "prev_speed",
+    "peak_accel_mps2",
+    "peak_decel_mps2",
+    "peak_jerk_mps3",
+    "peak_lateral_accel_mps2",
+    "sum_accel_sq",
+    "sum_jerk_sq",
+    "elapsed_s",
+    "min_clearance_m",
+    "min_clearance_time_s",
+    "min_ttc_s",
+    "min_ttc_time_s",
+    "travel_time_s",
+    "contact_time_s",
+    "impact_ego_speed_mps",
+    "impact_relative_speed_mps",
+    "impact_relative_longitudinal_mps",
+    "impact_local_x_m",
+    "impact_local_y_m",
+    "impact_vru",
+    "first_sensor_s",
+    "first_v2x_s",
+    "end_time_s",
+    "final_speed_mps",
+    "final_station_m",
+    "prev_actuator",
+    "prev_clearance",
+    "prev_speed",
 )
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
-(PEAK_A, PEAK_D, PEAK_J, PEAK_LAT, SUM_A2, SUM_J2, ELAPSED, MIN_CLR, MIN_CLR_T, MIN_TTC, MIN_TTC_T, TRAVEL,
- CONTACT_T, IMPACT_V, IMPACT_REL, IMPACT_REL_LONG, IMPACT_X, IMPACT_Y, IMPACT_VRU, FIRST_SENSOR, FIRST_V2X,
- END_T, FINAL_V, FINAL_S, PREV_ACT, PREV_CLR, PREV_V) = range(len(FIELDS))
+(
+    PEAK_A,
+    PEAK_D,
+    PEAK_J,
+    PEAK_LAT,
+    SUM_A2,
+    SUM_J2,
+    ELAPSED,
+    MIN_CLR,
+    MIN_CLR_T,
+    MIN_TTC,
+    MIN_TTC_T,
+    TRAVEL,
+    CONTACT_T,
+    IMPACT_V,
+    IMPACT_REL,
+    IMPACT_REL_LONG,
+    IMPACT_X,
+    IMPACT_Y,
+    IMPACT_VRU,
+    FIRST_SENSOR,
+    FIRST_V2X,
+    END_T,
+    FINAL_V,
+    FINAL_S,
+    PREV_ACT,
+    PREV_CLR,
+    PREV_V,
+) = range(len(FIELDS))
 
 
 class RunMetrics:
@@ -34,8 +80,19 @@ class RunMetrics:
         B = params.size
         self.params = params
         values = np.zeros((len(FIELDS), B))
-        nan_rows = (MIN_CLR_T, MIN_TTC_T, TRAVEL, CONTACT_T, IMPACT_V, IMPACT_REL, IMPACT_REL_LONG, IMPACT_X,
-                    IMPACT_Y, FIRST_SENSOR, FIRST_V2X)
+        nan_rows = (
+            MIN_CLR_T,
+            MIN_TTC_T,
+            TRAVEL,
+            CONTACT_T,
+            IMPACT_V,
+            IMPACT_REL,
+            IMPACT_REL_LONG,
+            IMPACT_X,
+            IMPACT_Y,
+            FIRST_SENSOR,
+            FIRST_V2X,
+        )
         values[list(nan_rows)] = np.nan
         values[[MIN_CLR, MIN_TTC, PREV_CLR]] = np.inf
         values[IMPACT_VRU] = -1
@@ -65,13 +122,32 @@ class RunMetrics:
                 if np.isnan(self.first_mode_s[b, new_mode[b]]):
                     self.first_mode_s[b, new_mode[b]] = t_s
 
-    def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc,
-                    vru_vx, vru_vy) -> None:
+    def record_step(
+        self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy
+    ) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""
-        _record_step(t_s, self.params.dt_s, active, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2,
-                     ego.curvature_per_m, ego.station_m, ego.heading_x, ego.heading_y, moving_before,
-                     self.params.route_length_m, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy,
-                     self.values, self.collided)
+        _record_step(
+            t_s,
+            self.params.dt_s,
+            active,
+            ego.speed_mps,
+            ego.accel_mps2,
+            ego.actuator_mps2,
+            ego.curvature_per_m,
+            ego.station_m,
+            ego.heading_x,
+            ego.heading_y,
+            moving_before,
+            self.params.route_length_m,
+            clearance,
+            outline_x,
+            outline_y,
+            ttc,
+            vru_vx,
+            vru_vy,
+            self.values,
+            self.collided,
+        )
 
 
 @njit(cache=True)
@@ -88,9 +164,28 @@ def _record_detection(t, active, sensed, received, values):  # pragma: no cover 
 
 
 @njit(cache=True)
-def _record_step(t, dt, active, speed, accel, actuator, curvature, station, hx, hy, moving_before,
-                 route_length, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy, m,
-                 collided):  # pragma: no cover (compiled)
+def _record_step(
+    t,
+    dt,
+    active,
+    speed,
+    accel,
+    actuator,
+    curvature,
+    station,
+    hx,
+    hy,
+    moving_before,
+    route_length,
+    clearance,
+    outline_x,
+    outline_y,
+    ttc,
+    vru_vx,
+    vru_vy,
+    m,
+    collided,
+):  # pragma: no cover (compiled)
     B, K = clearance.shape
     for b in range(B):
         if not active[b]:

@@ -4,24 +4,74 @@ Both bodies move with constant velocity and the rectangle keeps its current head
 frame the circle centre follows the ray ``p + w t``; the collision set is the rectangle dilated by the
 circle radius (a rounded rectangle). The TTC is the ray's earliest entry time into that set, found
 with a slab test against the rounded rectangle's bounding box followed by a single ray/disk test when
-the entry point lies in a corner square. Fully vectorised, batch-first (rectangle [B], circles [B, K]),
-no trigonometric functions, never NaN for finite inputs.
+the entry point lies in a corner square (whose inner sides lie inside the corner disk, so the ray can only
+reach the set there through the disk). Batch-first (rectangle [B], circles [B, K]), no trigonometric
+functions, never NaN for finite inputs.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from vrusim.sim.contact import _circle_arrays, _lift_all, _restore_shape, _scratch, _to_local_into
+from vrusim.sim.contact import _lifted, to_local
 
-__all__ = ["time_to_collision"]
+__all__ = ["time_to_collision", "ttc_local"]
 
 FloatArray = NDArray[np.float64]
 
-_TINY = float(np.finfo(np.float64).tiny)  # smallest normal float64
-#: Entry points closer than this (m) to a face strip are not treated as corner entries (rounding guard).
 _CORNER_TOL = 1e-10
+"""Entry points closer than this (m) to a face strip count as face entries (keeps r = 0 corner hits)."""
+
+
+@njit(cache=True, inline="always")
+def _slab(p, w, half):  # pragma: no cover (compiled)
+    """Entry and exit time of p + w t in |x| <= half (closed); (inf, -inf) when never inside."""
+    if w == 0.0:
+        return (-np.inf, np.inf) if abs(p) <= half else (np.inf, -np.inf)
+    edge = math.copysign(half, w)
+    return (-edge - p) / w, (edge - p) / w
+
+
+@njit(cache=True, inline="always")
+def ttc_local(px, py, wx, wy, half_length, half_width, radius, horizon):  # pragma: no cover (compiled)
+    """TTC (s) of a circle at p moving at w relative to a rectangle, both in the rectangle frame."""
+    x_in, x_out = _slab(px, wx, half_length + radius)
+    y_in, y_out = _slab(py, wy, half_width + radius)
+    t0 = max(x_in, y_in, 0.0)
+    if min(x_out, y_out) < t0 or t0 == np.inf:
+        return np.inf
+    qx, qy = px + wx * t0, py + wy * t0
+    t = t0
+    if abs(qx) > half_length + _CORNER_TOL and abs(qy) > half_width + _CORNER_TOL:
+        # ray / corner-disk entry: a t^2 + 2 b t + c = 0, root c / (sqrt(b^2 - a c) - b), stable for a = 0
+        dx, dy = px - math.copysign(half_length, qx), py - math.copysign(half_width, qy)
+        c = dx * dx + dy * dy - radius * radius
+        if c <= 0.0:
+            return 0.0
+        b = min(dx * wx + dy * wy, 0.0)
+        disc = b * b - (wx * wx + wy * wy) * c
+        if disc < 0.0:
+            return np.inf
+        denominator = math.sqrt(disc) - b
+        if denominator <= 0.0:
+            return np.inf
+        t = c / denominator
+    return t if t <= horizon else np.inf
+
+
+@njit(cache=True)
+def _ttc_many(cx, cy, hx, hy, hl, hw, evx, evy, qx, qy, r, vx, vy, horizon):  # pragma: no cover (compiled)
+    n = qx.shape[0]
+    out = np.empty(n)
+    for i in range(n):
+        px, py = to_local(cx[i], cy[i], hx[i], hy[i], qx[i], qy[i])
+        wx, wy = to_local(evx[i], evy[i], hx[i], hy[i], vx[i], vy[i])
+        out[i] = ttc_local(px, py, wx, wy, hl[i], hw[i], r[i], horizon)
+    return out
 
 
 def time_to_collision(
@@ -56,91 +106,21 @@ def time_to_collision(
         TTC [B, K] in s, >= 0: 0 if already touching/overlapping, ``inf`` if no contact ever occurs
         (or only after ``horizon``).
     """
-    shape = np.broadcast_shapes(*(np.shape(a) for a in (circle_x, circle_y, radius, vru_vx, vru_vy)))
-    qx, qy, r, vx, vy = _circle_arrays(circle_x, circle_y, radius, vru_vx, vru_vy)
-    rect = _lift_all(
-        qx.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width, ego_vx, ego_vy
+    flat, shape = _lifted(
+        [center_x, center_y, heading_x, heading_y, half_length, half_width, ego_vx, ego_vy],
+        [circle_x, circle_y, radius, vru_vx, vru_vy],
     )
-    full = np.broadcast_shapes(qx.shape, r.shape, vx.shape, vy.shape, *(a.shape for a in rect))
-    cx, cy, hx, hy, hl, hw, evx, evy = rect
-    t_enter = np.empty(full)  # becomes the output
-    px, py, wx, wy, s1, s2, tmp = _scratch(7, full)
-    _to_local_into(cx, cy, hx, hy, qx, qy, px, py, s1)
-    # Relative velocity of the circle w.r.t. the rectangle, rotated into the rectangle frame.
-    _to_local_into(evx, evy, hx, hy, vx, vy, wx, wy, s1)
+    return _ttc_many(*flat, float(horizon)).reshape(shape)
 
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # Slab test against the bounding box |x| <= hl + r, |y| <= hw + r of the rounded rectangle. With
-        # sa = copysign(a, w) the slab |p + w t| <= a is entered at -(p + sa) / w and left at (sa - p) / w.
-        # For w == +-0 these are -inf/+inf inside the slab, an empty or never-entered interval outside,
-        # and NaN (0/0) exactly on the slab boundary; fmin/fmax ignore that NaN, i.e. treat the axis as
-        # unconstrained, which is correct for a point resting on the (closed) slab boundary.
-        np.add(r, hl, out=s1)
-        np.copysign(s1, wx, out=s1)
-        np.add(px, s1, out=t_enter)  # holds -(entry time) until negated below
-        t_enter /= wx
-        np.subtract(s1, px, out=s1)
-        s1 /= wx  # exit time of the x slab
-        np.add(r, hw, out=s2)
-        np.copysign(s2, wy, out=s2)
-        np.add(py, s2, out=tmp)
-        tmp /= wy
-        np.fmin(t_enter, tmp, out=t_enter)
-        np.subtract(s2, py, out=s2)
-        s2 /= wy  # exit time of the y slab
-        np.fmin(t_enter, 0.0, out=t_enter)
-        t0 = np.subtract(0.0, t_enter, out=t_enter)  # box entry time (+0 if inside), never NaN, maybe +inf
-        t_exit = np.fmin(s1, s2, out=s1)  # NaN only when unconstrained on both axes
-        miss = t_exit < t0
 
-        # Entry point q = p + w t0. Unless it lies in a corner square (|qx| > hl and |qy| > hw) it is on
-        # the rounded rectangle and t0 is the answer. In a corner square the ray can only reach the rest
-        # of the set through that corner's disk (the square's inner sides lie inside the disk). Entry points
-        # within _CORNER_TOL of a face strip count as face entries so that r = 0 corner hits survive rounding.
-        # (t0 = +inf only occurs with a zero velocity component, making q NaN there: no corner.)
-        np.multiply(wx, t0, out=s2)
-        s2 += px
-        np.abs(s2, out=tmp)
-        corner = tmp > hl + _CORNER_TOL
-        np.copysign(hl, s2, out=s2)
-        px -= s2  # dx: circle centre relative to the corner
-        np.multiply(wy, t0, out=s2)
-        s2 += py
-        np.abs(s2, out=tmp)
-        corner &= tmp > hw + _CORNER_TOL
-        np.copysign(hw, s2, out=s2)
-        py -= s2  # dy
-
-        # Ray/disk entry: |d + w t|^2 = r^2  ->  a t^2 + 2 b t + c = 0 with b clamped to <= 0 (receding
-        # rays then get a negative discriminant when outside the disk). The entry root
-        # (-b - sqrt(b^2 - a c)) / a is evaluated as c / (sqrt(b^2 - a c) - b): stable and valid for a = 0.
-        b = np.multiply(px, wx, out=s1)
-        np.multiply(py, wy, out=s2)
-        b += s2
-        np.minimum(b, 0.0, out=b)
-        c = px
-        c *= px
-        py *= py
-        c += py
-        np.multiply(r, r, out=py)
-        c -= py
-        a = wx
-        a *= wx
-        wy *= wy
-        a += wy
-        a *= c
-        disc = np.multiply(b, b, out=s2)
-        disc -= a
-        np.sqrt(disc, out=disc)  # NaN if the ray misses the disk
-        disc -= b  # >= 0, or NaN; 0 only when not approaching (a c = 0, b = 0)
-        c -= _TINY  # so that c = 0 (touching) over a zero denominator gives -inf -> 0 instead of NaN
-        t_disk = np.divide(c, disc, out=c)
-        np.fmin(t_disk, np.inf, out=t_disk)  # NaN (miss) -> inf
-        np.maximum(t_disk, 0.0, out=t_disk)  # centre already inside the disk -> 0
-
-        ttc = t0
-        np.putmask(ttc, corner, t_disk)
-        if horizon < np.inf:
-            miss |= ttc > horizon
-        np.putmask(ttc, miss, np.inf)
-    return _restore_shape(ttc, shape)
+@njit(cache=True)
+def ttc_batch(cx, cy, hx, hy, hl, hw, evx, evy, qx, qy, r, vx, vy):  # pragma: no cover (compiled)
+    """Engine fast path: rectangles [B], circles [B, K] -> TTC [B, K] s (no horizon)."""
+    B, K = qx.shape
+    out = np.empty((B, K))
+    for b in range(B):
+        for k in range(K):
+            px, py = to_local(cx[b], cy[b], hx[b], hy[b], qx[b, k], qy[b, k])
+            wx, wy = to_local(evx[b], evy[b], hx[b], hy[b], vx[b, k], vy[b, k])
+            out[b, k] = ttc_local(px, py, wx, wy, hl[b], hw[b], r[b, k], np.inf)
+    return out

@@ -41,10 +41,29 @@ def update_track(t, detected, x, y, vx, vy, memory_s, track):  # pragma: no cove
 
 
 @njit(cache=True, inline="always")
-def analyse_vru(xs, ys, kappas, inv_spacing, width, offset, station_guess, front_station, half_width, radius,
-                margin, horizon, x, y, vx, vy):  # pragma: no cover (compiled)
+def analyse_vru(
+    xs,
+    ys,
+    tangents,
+    kappas,
+    inv_spacing,
+    width,
+    offset,
+    station_guess,
+    front_station,
+    half_width,
+    radius,
+    margin,
+    horizon,
+    x,
+    y,
+    vx,
+    vy,
+):  # pragma: no cover (compiled)
     """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s)."""
-    station, px, py, tx, ty, _ = project_point(xs, ys, kappas, inv_spacing, width, offset, station_guess, x, y, 2)
+    station, px, py, tx, ty, _ = project_point(
+        xs, ys, tangents, kappas, inv_spacing, width, offset, station_guess, x, y, 2
+    )
     lateral = tx * (y - py) - ty * (x - px)
     along = vx * tx + vy * ty
     cross = vy * tx - vx * ty
@@ -58,8 +77,19 @@ def analyse_vru(xs, ys, kappas, inv_spacing, width, offset, station_guess, front
     else:
         t_in, t_out = np.inf, -np.inf
     lead_time = min(max(t_in, 0.0), horizon)
-    entry = project_point(xs, ys, kappas, inv_spacing, width, offset, station, x + vx * lead_time,
-                          y + vy * lead_time, 2)[0]
+    entry = project_point(
+        xs,
+        ys,
+        tangents,
+        kappas,
+        inv_spacing,
+        width,
+        offset,
+        station,
+        x + vx * lead_time,
+        y + vy * lead_time,
+        2,
+    )[0]
     distance = max(min(station, entry) - radius - front_station, 0.0)
     ahead = station + radius >= front_station
     conflict = ahead and t_out >= 0.0 and t_in <= horizon
@@ -98,24 +128,78 @@ class ConflictTracker:
             offsets = np.broadcast_to(obs.route_offset[:, None], shape)
             self.station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
         out = np.empty((6, *shape))
-        _analyse_batch(*obs.routes.arrays, obs.route_offset, obs.t_s, obs.ego_station_m + obs.rear_to_front_m,
-                       obs.half_width_m, obs.vru_radius_m, self.margin_m, self.horizon_s, self.memory_s,
-                       obs.detected, obs.vru_x_m, obs.vru_y_m, obs.vru_vx_mps, obs.vru_vy_mps, self.tracks,
-                       self.station, out)
+        _analyse_batch(
+            *obs.routes.arrays,
+            obs.route_offset,
+            obs.t_s,
+            obs.ego_station_m + obs.rear_to_front_m,
+            obs.half_width_m,
+            obs.vru_radius_m,
+            self.margin_m,
+            self.horizon_s,
+            self.memory_s,
+            obs.detected,
+            obs.vru_x_m,
+            obs.vru_y_m,
+            obs.vru_vx_mps,
+            obs.vru_vy_mps,
+            self.tracks,
+            self.station,
+            out,
+        )
         return Conflicts(out[0] > 0.5, out[1] > 0.5, out[2], out[3], out[4], out[5])
 
 
 @njit(cache=True)
-def _analyse_batch(xs, ys, kappas, inv_spacing, width, offsets, t, front_station, half_width, radius, margin,
-                   horizon, memory, detected, vx_x, vx_y, v_vx, v_vy, tracks, station, out):  # pragma: no cover
+def _analyse_batch(
+    xs,
+    ys,
+    tangents,
+    kappas,
+    inv_spacing,
+    width,
+    offsets,
+    t,
+    front_station,
+    half_width,
+    radius,
+    margin,
+    horizon,
+    memory,
+    detected,
+    vx_x,
+    vx_y,
+    v_vx,
+    v_vy,
+    tracks,
+    station,
+    out,
+):  # pragma: no cover
     B, K = vx_x.shape
     for b in range(B):
         for k in range(K):
-            known, x, y, vx, vy = update_track(t, detected[b, k], vx_x[b, k], vx_y[b, k], v_vx[b, k], v_vy[b, k],
-                                               memory[b], tracks[b, k])
+            known, x, y, vx, vy = update_track(
+                t, detected[b, k], vx_x[b, k], vx_y[b, k], v_vx[b, k], v_vy[b, k], memory[b], tracks[b, k]
+            )
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-                xs, ys, kappas, inv_spacing, width, offsets[b], station[b, k], front_station[b], half_width[b],
-                radius[b, k], margin[b], horizon[b], x, y, vx, vy)
+                xs,
+                ys,
+                tangents,
+                kappas,
+                inv_spacing,
+                width,
+                offsets[b],
+                station[b, k],
+                front_station[b],
+                half_width[b],
+                radius[b, k],
+                margin[b],
+                horizon[b],
+                x,
+                y,
+                vx,
+                vy,
+            )
             if known:
                 station[b, k] = s
             out[0, b, k] = 1.0 if (known and conflict) else 0.0

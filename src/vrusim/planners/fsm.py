@@ -23,11 +23,10 @@ Conflicts are defined in `vrusim.planners.conflict`.
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
-from numba import njit
-
 from vrusim.planners.conflict import analyse_vru, update_track
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
@@ -93,10 +92,27 @@ class FsmPlanner:
             offsets = np.broadcast_to(obs.route_offset[:, None], obs.vru_x_m.shape)
             self.station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
         command = np.empty(self.mode.shape)
-        _fsm_step(*obs.routes.arrays, obs.route_offset, obs.t_s, obs.ego_station_m + obs.rear_to_front_m,
-                  obs.ego_speed_mps, obs.cruise_speed_mps, obs.half_width_m, self.zone_length, obs.detected,
-                  obs.vru_x_m, obs.vru_y_m, obs.vru_vx_mps, obs.vru_vy_mps, obs.vru_radius_m, self.table,
-                  self.tracks, self.station, self.mode, command)
+        _fsm_step(
+            *obs.routes.arrays,
+            obs.route_offset,
+            obs.t_s,
+            obs.ego_station_m + obs.rear_to_front_m,
+            obs.ego_speed_mps,
+            obs.cruise_speed_mps,
+            obs.half_width_m,
+            self.zone_length,
+            obs.detected,
+            obs.vru_x_m,
+            obs.vru_y_m,
+            obs.vru_vx_mps,
+            obs.vru_vy_mps,
+            obs.vru_radius_m,
+            self.table,
+            self.tracks,
+            self.station,
+            self.mode,
+            command,
+        )
         return command
 
 
@@ -117,14 +133,52 @@ PARAM_ORDER = (
     "time_margin_s",
     "arrival_min_speed_mps",
 )
-(_HEADWAY, _PRE_SLOW, _EMERGENCY, _CRUISE_ACCEL, _CRUISE_GAIN, _FOLLOW_HEADWAY, _FOLLOW_DECEL, _COMFORT_DECEL,
- _STANDSTILL, _LEAD_TTC, _HORIZON, _MARGIN, _MEMORY, _TIME_MARGIN, _ARRIVAL_SPEED) = range(len(PARAM_ORDER))
+(
+    _HEADWAY,
+    _PRE_SLOW,
+    _EMERGENCY,
+    _CRUISE_ACCEL,
+    _CRUISE_GAIN,
+    _FOLLOW_HEADWAY,
+    _FOLLOW_DECEL,
+    _COMFORT_DECEL,
+    _STANDSTILL,
+    _LEAD_TTC,
+    _HORIZON,
+    _MARGIN,
+    _MEMORY,
+    _TIME_MARGIN,
+    _ARRIVAL_SPEED,
+) = range(len(PARAM_ORDER))
 
 
 @njit(cache=True)
-def _fsm_step(xs, ys, kappas, inv_spacing, width, offsets, t, front_station, speed, cruise_speed, half_width,
-              zone_length, detected, vru_x, vru_y, vru_vx, vru_vy, radius, p, tracks, station, mode,
-              command):  # pragma: no cover (compiled)
+def _fsm_step(
+    xs,
+    ys,
+    tangents,
+    kappas,
+    inv_spacing,
+    width,
+    offsets,
+    t,
+    front_station,
+    speed,
+    cruise_speed,
+    half_width,
+    zone_length,
+    detected,
+    vru_x,
+    vru_y,
+    vru_vx,
+    vru_vy,
+    radius,
+    p,
+    tracks,
+    station,
+    mode,
+    command,
+):  # pragma: no cover (compiled)
     B, K = vru_x.shape
     for b in range(B):
         v = speed[b]
@@ -132,13 +186,37 @@ def _fsm_step(xs, ys, kappas, inv_spacing, width, offsets, t, front_station, spe
         margin = p[b, _TIME_MARGIN] * (1.5 if mode[b] == PRE_SLOW else 1.0)
         gap, lead_speed, is_lead = np.inf, 0.0, False
         for k in range(K):
-            known, x, y, vx, vy = update_track(t, detected[b, k], vru_x[b, k], vru_y[b, k], vru_vx[b, k],
-                                               vru_vy[b, k], p[b, _MEMORY], tracks[b, k])
+            known, x, y, vx, vy = update_track(
+                t,
+                detected[b, k],
+                vru_x[b, k],
+                vru_y[b, k],
+                vru_vx[b, k],
+                vru_vy[b, k],
+                p[b, _MEMORY],
+                tracks[b, k],
+            )
             if not known:
                 continue
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-                xs, ys, kappas, inv_spacing, width, offsets[b], station[b, k], front_station[b], half_width[b],
-                radius[b, k], p[b, _MARGIN], p[b, _HORIZON], x, y, vx, vy)
+                xs,
+                ys,
+                tangents,
+                kappas,
+                inv_spacing,
+                width,
+                offsets[b],
+                station[b, k],
+                front_station[b],
+                half_width[b],
+                radius[b, k],
+                p[b, _MARGIN],
+                p[b, _HORIZON],
+                x,
+                y,
+                vx,
+                vy,
+            )
             station[b, k] = s
             if not conflict:
                 continue
@@ -166,8 +244,9 @@ def _fsm_step(xs, ys, kappas, inv_spacing, width, offsets, t, front_station, spe
             command[b] = -p[b, _EMERGENCY]
         else:  # IDM+ toward the lead
             a_max, comfort = p[b, _CRUISE_ACCEL], p[b, _COMFORT_DECEL]
-            desired = p[b, _STANDSTILL] + v * p[b, _FOLLOW_HEADWAY] + v * (v - lead_speed) / (
-                2.0 * np.sqrt(a_max * comfort))
+            desired = (
+                p[b, _STANDSTILL] + v * p[b, _FOLLOW_HEADWAY] + v * (v - lead_speed) / (2.0 * np.sqrt(a_max * comfort))
+            )
             desired = max(desired, p[b, _STANDSTILL])
             free_road = (v / max(cruise_speed[b], 0.1)) ** 4
             interaction = (desired / max(gap, 1e-3)) ** 2

@@ -81,9 +81,13 @@ def sample_path(spec: PathSpec, spacing_m: float = SAMPLE_SPACING_M) -> np.ndarr
         local = stations[mask] - start
         if isinstance(piece, Line):
             out[mask] = np.column_stack(
-                [x + local * math.cos(heading), y + local * math.sin(heading),
-                 np.full(local.shape, math.cos(heading)), np.full(local.shape, math.sin(heading)),
-                 np.zeros(local.shape)]
+                [
+                    x + local * math.cos(heading),
+                    y + local * math.sin(heading),
+                    np.full(local.shape, math.cos(heading)),
+                    np.full(local.shape, math.sin(heading)),
+                    np.zeros(local.shape),
+                ]
             )
             x, y = x + piece.length_m * math.cos(heading), y + piece.length_m * math.sin(heading)
         else:
@@ -168,12 +172,16 @@ class PathTable:
         self._x = np.ascontiguousarray(table[:, :, 0]).ravel()
         self._y = np.ascontiguousarray(table[:, :, 1]).ravel()
         self._kappa = np.ascontiguousarray(table[:, :, 4]).ravel()
+        # unit direction of each segment (sample j -> j + 1), precomputed so evaluation needs no square root
+        seg = np.diff(table[:, :, :2], axis=1, append=table[:, -1:, :2] + table[:, -1:, 2:4] * spacing_m)
+        seg /= np.linalg.norm(seg, axis=2, keepdims=True)
+        self._tangent = np.ascontiguousarray(seg.reshape(-1, 2))
         self.samples = table
 
     @property
     def arrays(self) -> tuple:
-        """(x, y, curvature, 1 / spacing, width): what compiled kernels need to evaluate the table."""
-        return self._x, self._y, self._kappa, 1.0 / self.spacing_m, self.width
+        """(x, y, segment unit tangents, curvature, 1 / spacing, width): what compiled kernels need."""
+        return self._x, self._y, self._tangent, self._kappa, 1.0 / self.spacing_m, self.width
 
     def locate(self, row_offset: np.ndarray, station_m: np.ndarray):
         """Return (x, y, unit tangent x, unit tangent y, curvature) at `station_m` of each path.
@@ -190,8 +198,14 @@ class PathTable:
         Returns (station, path x, path y, tangent x, tangent y, curvature) at the refined station.
         """
         shape = np.shape(station_m)
-        out = _project_many(*self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float),
-                            np.ravel(px).astype(float), np.ravel(py).astype(float), iterations)
+        out = _project_many(
+            *self.arrays,
+            np.ravel(row_offset),
+            np.ravel(station_m).astype(float),
+            np.ravel(px).astype(float),
+            np.ravel(py).astype(float),
+            iterations,
+        )
         return tuple(a.reshape(shape) for a in out)
 
     def project_global(self, rows: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
@@ -202,45 +216,54 @@ class PathTable:
 
 
 @njit(cache=True, inline="always")
-def locate_point(xs, ys, kappas, inv_spacing, width, offset, station):  # pragma: no cover (compiled)
+def locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station):  # pragma: no cover
     """(x, y, unit tangent x, unit tangent y, curvature) of one path at one station (compiled)."""
     scaled = station * inv_spacing
-    j = min(max(int(np.floor(scaled)), 0), width - 2)
+    j = min(max(math.floor(scaled), 0), width - 2)
     flat = offset + j
     frac = scaled - j
     x0, y0 = xs[flat], ys[flat]
-    dx, dy = xs[flat + 1] - x0, ys[flat + 1] - y0
-    inv = 1.0 / np.sqrt(dx * dx + dy * dy)
-    return x0 + frac * dx, y0 + frac * dy, dx * inv, dy * inv, kappas[flat]
+    return (
+        x0 + frac * (xs[flat + 1] - x0),
+        y0 + frac * (ys[flat + 1] - y0),
+        tangents[flat, 0],
+        tangents[flat, 1],
+        kappas[flat],
+    )
 
 
 @njit(cache=True, inline="always")
-def project_point(xs, ys, kappas, inv_spacing, width, offset, station, px, py, iterations):  # pragma: no cover
+def project_point(
+    xs, ys, tangents, kappas, inv_spacing, width, offset, station, px, py, iterations
+):  # pragma: no cover (compiled)
     """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
     for _ in range(iterations):
-        x, y, tx, ty, _k = locate_point(xs, ys, kappas, inv_spacing, width, offset, station)
+        x, y, tx, ty, _k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station)
         station = station + (px - x) * tx + (py - y) * ty
-    x, y, tx, ty, k = locate_point(xs, ys, kappas, inv_spacing, width, offset, station)
+    x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station)
     return station, x, y, tx, ty, k
 
 
 @njit(cache=True)
-def _locate_many(xs, ys, kappas, inv_spacing, width, offsets, stations):  # pragma: no cover (compiled)
+def _locate_many(xs, ys, tangents, kappas, inv_spacing, width, offsets, stations):  # pragma: no cover
     n = stations.shape[0]
     out = np.empty((5, n))
     for i in range(n):
-        x, y, tx, ty, k = locate_point(xs, ys, kappas, inv_spacing, width, offsets[i], stations[i])
+        x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offsets[i], stations[i])
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4]
 
 
 @njit(cache=True)
-def _project_many(xs, ys, kappas, inv_spacing, width, offsets, stations, px, py, iterations):  # pragma: no cover
+def _project_many(
+    xs, ys, tangents, kappas, inv_spacing, width, offsets, stations, px, py, iterations
+):  # pragma: no cover (compiled)
     n = stations.shape[0]
     out = np.empty((6, n))
     for i in range(n):
-        s, x, y, tx, ty, k = project_point(xs, ys, kappas, inv_spacing, width, offsets[i], stations[i],
-                                           px[i], py[i], iterations)
+        s, x, y, tx, ty, k = project_point(
+            xs, ys, tangents, kappas, inv_spacing, width, offsets[i], stations[i], px[i], py[i], iterations
+        )
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], out[5, i] = s, x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4], out[5]
 

@@ -34,7 +34,10 @@ VRU_DEFAULTS: dict[VruType, VruDefaults] = {
         1.8, 1.0, 0.5, "paper Sec. IV-A (speed, radius); accel: Euro NCAP EPT 5 km/h within 1 m ≈ 1 m/s²"
     ),
     VruType.CYCLIST: VruDefaults(
-        5.56, 2.5, 0.95, "Euro NCAP EBTa 20 km/h, 1.89 m target length (radius = half length); 15 km/h in 3.5 m"
+        5.56,
+        2.5,
+        0.95,
+        "Euro NCAP EBTa 20 km/h, 1.89 m target length (radius = half length); 15 km/h in 3.5 m",
     ),
     VruType.E_SCOOTER: VruDefaults(13.4, 4.0, 1.0, "paper Sec. IV-A (speed, radius); accel: ours, docs/models.md"),
     VruType.MOTORCYCLIST: VruDefaults(30.0, 5.0, 1.5, "paper Sec. IV-A (speed, radius); accel: ours, docs/models.md"),

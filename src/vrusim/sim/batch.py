@@ -124,7 +124,10 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
             elif trig.ego_distance_m is not None:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_DISTANCE, trig.ego_distance_m
             else:
-                trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME_TO_ARRIVAL, trig.ego_time_to_arrival_s
+                trigger_kind[b, k], numeric["tval"][b, k] = (
+                    TRIGGER_TIME_TO_ARRIVAL,
+                    trig.ego_time_to_arrival_s,
+                )
             if trig.point is not None:
                 numeric["tx"][b, k], numeric["ty"][b, k] = trig.point.x_m, trig.point.y_m
             path_specs.append(vru_path_spec(vru))
@@ -143,7 +146,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     return BatchParams(
         scenarios=list(scenarios),
         dt_s=dt,
-        n_steps=int(math.ceil(duration.max() / dt - 1e-9)),
+        n_steps=math.ceil(duration.max() / dt - 1e-9),
         duration_s=duration,
         stop_on_collision=np.array([s.sim.stop_on_collision for s in scenarios]),
         stop_at_route_end=np.array([s.sim.stop_at_route_end for s in scenarios]),

@@ -1,21 +1,21 @@
-"""Exact contact geometry between an oriented rectangle (ego footprint) and circles (VRU footprints).
+"""Exact contact between an oriented rectangle (the ego) and circles (VRU footprints).
 
-Batch-first and fully vectorised: rectangle quantities have shape ``[B]`` (one rectangle per variant),
-circle quantities have shape ``[B, K]`` (K VRUs per variant). Rectangle arrays are broadcast against the
-circle arrays by appending trailing axes, so ``[B]`` pairs with ``[B, K]`` (scalars also work).
-
-Frames follow ISO 8855: x forward, y to the left. The rectangle's local frame has its origin at the
-rectangle centre, x along the (unit) heading vector and y to its left. No trigonometric functions are
-used; orientation is always given as a unit heading vector ``(heading_x, heading_y)``.
+Batch-first: rectangles [B], circles [B, K] (a [B] rectangle array lines up with the first axis of [B, K]).
+SI units, ISO 8855 local frame (x forward along the heading, y left). The geometry is written once as scalar
+compiled functions (`clearance_local`) and applied over whole batches; no trigonometric calls.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "IMPACT_SIDE_NAMES",
+    "clearance_local",
     "impact_side",
     "lateral_impact_fraction",
     "rectangle_circle_clearance",
@@ -28,64 +28,64 @@ FloatArray = NDArray[np.float64]
 IMPACT_SIDE_NAMES: tuple[str, str, str, str] = ("front", "rear", "left", "right")
 
 
-def _lift(a: ArrayLike, ndim: int) -> FloatArray:
-    """Return ``a`` as float64, with trailing unit axes appended so that it has ``ndim`` dimensions.
+@njit(cache=True, inline="always")
+def to_local(center_x, center_y, heading_x, heading_y, x, y):  # pragma: no cover (compiled)
+    """World point -> rectangle frame (heading must be a unit vector)."""
+    dx, dy = x - center_x, y - center_y
+    return dx * heading_x + dy * heading_y, dy * heading_x - dx * heading_y
 
-    Scalars (0-d) are left as they are; ``[B]`` becomes ``[B, 1]`` for ``ndim == 2``.
+
+@njit(cache=True, inline="always")
+def clearance_local(lx, ly, half_length, half_width, radius):  # pragma: no cover (compiled)
+    """(clearance, outline x, outline y) of a circle at (lx, ly) in the rectangle frame.
+
+    clearance = distance from the centre to the filled rectangle minus the radius (<= 0: touching or
+    overlapping; -(radius + depth) for a centre inside, depth = distance to the nearest edge). The outline
+    point is the point of the rectangle's boundary nearest the centre (interior centres go to the nearest
+    edge; ties to the front/rear edge).
     """
-    arr = np.asarray(a, dtype=np.float64)
-    if 0 < arr.ndim < ndim:
-        arr = arr.reshape(arr.shape + (1,) * (ndim - arr.ndim))
-    return arr
+    ex = abs(lx) - half_length
+    ey = abs(ly) - half_width
+    depth = min(max(ex, ey), 0.0)
+    ox = min(max(lx, -half_length), half_length)
+    oy = min(max(ly, -half_width), half_width)
+    outside = math.sqrt(max(ex, 0.0) ** 2 + max(ey, 0.0) ** 2)
+    if ex >= ey:
+        ox += math.copysign(depth, ox)
+    else:
+        oy += math.copysign(depth, oy)
+    return depth + outside - radius, ox, oy
 
 
-def _lift_all(ndim: int, *arrays: ArrayLike) -> list[FloatArray]:
-    """:func:`_lift` applied to several per-rectangle arrays."""
-    return [_lift(a, ndim) for a in arrays]
+def _lifted(rect: list, circles: list) -> tuple[list, tuple[int, ...]]:
+    """Broadcast [B] rectangle arrays against [B, K] circle arrays; return flat float arrays and the shape."""
+    circles = [np.asarray(a, dtype=np.float64) for a in circles]
+    rect = [np.asarray(a, dtype=np.float64) for a in rect]
+    ndim = max(1, *(a.ndim for a in circles))
+    rect = [a.reshape(a.shape + (1,) * (ndim - a.ndim)) if 0 < a.ndim < ndim else a for a in rect]
+    shape = np.broadcast_shapes(*(a.shape for a in rect + circles))
+    flat = [np.ascontiguousarray(np.broadcast_to(a, shape)).ravel() for a in rect + circles]
+    out_shape = shape if any(np.ndim(a) for a in rect + circles) else ()
+    return flat, out_shape
 
 
-def _circle_arrays(*arrays: ArrayLike) -> list[FloatArray]:
-    """Broadcast per-circle inputs to a common shape of at least one dimension (float64 views)."""
-    return np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=np.float64)) for a in arrays))
+@njit(cache=True)
+def _clearance_many(cx, cy, hx, hy, hl, hw, px, py, r):  # pragma: no cover (compiled)
+    n = px.shape[0]
+    out = np.empty((3, n))
+    for i in range(n):
+        lx, ly = to_local(cx[i], cy[i], hx[i], hy[i], px[i], py[i])
+        out[0, i], out[1, i], out[2, i] = clearance_local(lx, ly, hl[i], hw[i], r[i])
+    return out
 
 
-def _restore_shape(a: FloatArray, shape: tuple[int, ...]) -> FloatArray:
-    """Undo the 1-d promotion of :func:`_circle_arrays` when all inputs were scalars."""
-    return a.reshape(shape) if a.ndim == 1 and not shape and a.size == 1 else a
-
-
-def _scratch(n: int, shape: tuple[int, ...]) -> list[FloatArray]:
-    """``n`` uninitialised float64 work buffers of ``shape``, carved from a single allocation.
-
-    One block instead of ``n`` separate arrays keeps allocator traffic (and page faults) low.
-    """
-    return list(np.empty((n, *shape)))
-
-
-def _to_local_into(
-    center_x: FloatArray,
-    center_y: FloatArray,
-    heading_x: FloatArray,
-    heading_y: FloatArray,
-    x: FloatArray,
-    y: FloatArray,
-    out_x: FloatArray,
-    out_y: FloatArray,
-    tmp: FloatArray,
-) -> None:
-    """Write the rectangle-frame coordinates of world points ``(x, y)`` into ``out_x, out_y``.
-
-    Rectangle arrays must already be lifted to the points' number of dimensions; ``tmp`` is clobbered.
-    """
-    np.subtract(x, center_x, out=tmp)  # dx
-    np.subtract(y, center_y, out=out_y)  # dy
-    np.multiply(tmp, heading_x, out=out_x)
-    tmp *= heading_y
-    np.multiply(out_y, heading_y, out=out_y)  # dy * hy (dx * hy kept in tmp)
-    out_x += out_y
-    np.subtract(y, center_y, out=out_y)
-    out_y *= heading_x
-    out_y -= tmp
+@njit(cache=True)
+def _local_many(cx, cy, hx, hy, px, py):  # pragma: no cover (compiled)
+    n = px.shape[0]
+    out = np.empty((2, n))
+    for i in range(n):
+        out[0, i], out[1, i] = to_local(cx[i], cy[i], hx[i], hy[i], px[i], py[i])
+    return out
 
 
 def to_local_frame(
@@ -101,13 +101,9 @@ def to_local_frame(
     Returns ``(local_x, local_y)`` [B, K] m: local_x along the heading, local_y to its left.
     The heading vector must be unit length (it is not re-normalised).
     """
-    shape = np.broadcast_shapes(np.shape(x), np.shape(y))
-    px, py = _circle_arrays(x, y)
-    rect = _lift_all(px.ndim, center_x, center_y, heading_x, heading_y)
-    full = np.broadcast_shapes(px.shape, *(a.shape for a in rect))
-    local_x, local_y, tmp = np.empty(full), np.empty(full), np.empty(full)
-    _to_local_into(*rect, px, py, local_x, local_y, tmp)
-    return _restore_shape(local_x, shape), _restore_shape(local_y, shape)
+    flat, shape = _lifted([center_x, center_y, heading_x, heading_y], [x, y])
+    out = _local_many(*flat)
+    return out[0].reshape(shape), out[1].reshape(shape)
 
 
 def rectangle_circle_clearance(
@@ -131,58 +127,22 @@ def rectangle_circle_clearance(
         radius: circle radii [B, K], m (>= 0).
 
     Returns:
-        ``(clearance, outline_x, outline_y)``, each [B, K]:
-
-        * ``clearance`` m: distance from the circle centre to the filled rectangle minus the radius; it is
-          <= 0 exactly when the bodies touch or overlap. For a centre inside the rectangle it is
-          ``-(radius + depth)`` with depth the distance to the nearest edge (continuous, negative).
-        * ``outline_x, outline_y`` m: point of the rectangle outline closest to the circle centre, in the
-          rectangle's local frame (x forward along the heading, y left). A centre inside the rectangle is
-          projected to its nearest edge (ties go to the front/rear edge).
+        ``(clearance, outline_x, outline_y)``, each [B, K] m, as defined in :func:`clearance_local`
+        (outline point in the rectangle's local frame).
     """
-    shape = np.broadcast_shapes(np.shape(circle_x), np.shape(circle_y), np.shape(radius))
-    px, py, r = _circle_arrays(circle_x, circle_y, radius)
-    cx, cy, hx, hy, hl, hw = _lift_all(
-        px.ndim, center_x, center_y, heading_x, heading_y, half_length, half_width
+    flat, shape = _lifted(
+        [center_x, center_y, heading_x, heading_y, half_length, half_width], [circle_x, circle_y, radius]
     )
-    full = np.broadcast_shapes(px.shape, r.shape, cx.shape, cy.shape, hx.shape, hy.shape, hl.shape, hw.shape)
-    lx, ly, clearance = np.empty(full), np.empty(full), np.empty(full)  # outputs
-    ex, ey = _scratch(2, full)
-    _to_local_into(cx, cy, hx, hy, px, py, lx, ly, ex)
+    out = _clearance_many(*flat)
+    return out[0].reshape(shape), out[1].reshape(shape), out[2].reshape(shape)
 
-    # Excess of |local coordinate| over the half extent (building blocks of the box signed distance).
-    np.abs(lx, out=ex)
-    ex -= hl
-    np.abs(ly, out=ey)
-    ey -= hw
-    snap_x = ex >= ey  # front/rear edge at least as near as the side edge (used for interior points)
-    depth = np.maximum(ex, ey, out=clearance)
-    np.minimum(depth, 0.0, out=depth)  # -(distance to nearest edge) inside, 0 outside
 
-    # Closest outline point: clamp to the filled rectangle, then push interior points onto the nearest
-    # edge, i.e. add copysign(depth, coordinate) on the snapped axis (depth is 0 for exterior points).
-    np.maximum(lx, -hl, out=lx)
-    np.minimum(lx, hl, out=lx)
-    np.maximum(ly, -hw, out=ly)
-    np.minimum(ly, hw, out=ly)
-    # Distance from an exterior centre to the rectangle (0 inside); ex/ey are consumed here.
-    np.maximum(ex, 0.0, out=ex)
-    ex *= ex
-    np.maximum(ey, 0.0, out=ey)
-    ey *= ey
-    ex += ey
-    np.sqrt(ex, out=ex)
-    np.copysign(depth, lx, out=ey)
-    ey *= snap_x
-    lx += ey
-    np.logical_not(snap_x, out=snap_x)
-    np.copysign(depth, ly, out=ey)
-    ey *= snap_x
-    ly += ey
-
-    clearance += ex  # depth + exterior distance
-    clearance -= r
-    return _restore_shape(clearance, shape), _restore_shape(lx, shape), _restore_shape(ly, shape)
+def _lift(a: ArrayLike, ndim: int) -> FloatArray:
+    """``a`` as float64 with trailing unit axes appended up to ``ndim`` dimensions (scalars unchanged)."""
+    arr = np.asarray(a, dtype=np.float64)
+    if 0 < arr.ndim < ndim:
+        arr = arr.reshape(arr.shape + (1,) * (ndim - arr.ndim))
+    return arr
 
 
 def impact_side(
@@ -218,3 +178,15 @@ def lateral_impact_fraction(outline_y: ArrayLike, half_width: ArrayLike) -> Floa
     frac = (oy + hw) / safe_width
     frac = np.where(width > 0.0, frac, 0.5)
     return np.clip(frac, 0.0, 1.0)
+
+
+@njit(cache=True)
+def clearance_batch(cx, cy, hx, hy, hl, hw, px, py, r):  # pragma: no cover (compiled)
+    """Engine fast path: rectangles [B], circles [B, K] -> (clearance, outline x, outline y) [B, K]."""
+    B, K = px.shape
+    out = np.empty((3, B, K))
+    for b in range(B):
+        for k in range(K):
+            lx, ly = to_local(cx[b], cy[b], hx[b], hy[b], px[b, k], py[b, k])
+            out[0, b, k], out[1, b, k], out[2, b, k] = clearance_local(lx, ly, hl[b], hw[b], r[b, k])
+    return out[0], out[1], out[2]

@@ -34,21 +34,77 @@ def rotate(hx, hy, angle):  # pragma: no cover (compiled)
 
 def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) -> None:
     """Advance every ego by one step under the planner's acceleration command (m/s^2), in place."""
-    _advance(*params.routes.arrays, params.route_offset, params.lateral_gain, params.heading_gain,
-             params.max_curvature_per_m, params.max_accel_mps2, params.max_decel_mps2, params.lag_s,
-             params.max_jerk_mps3, params.dt_s, np.ascontiguousarray(accel_command, dtype=float), ego.x_m,
-             ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2,
-             ego.station_m, ego.curvature_per_m, ego.lateral_error_m)
+    _advance(
+        *params.routes.arrays,
+        params.route_offset,
+        params.lateral_gain,
+        params.heading_gain,
+        params.max_curvature_per_m,
+        params.max_accel_mps2,
+        params.max_decel_mps2,
+        params.lag_s,
+        params.max_jerk_mps3,
+        params.dt_s,
+        np.ascontiguousarray(accel_command, dtype=float),
+        ego.x_m,
+        ego.y_m,
+        ego.heading_x,
+        ego.heading_y,
+        ego.speed_mps,
+        ego.accel_mps2,
+        ego.actuator_mps2,
+        ego.station_m,
+        ego.curvature_per_m,
+        ego.lateral_error_m,
+        params.rear_to_front_m,
+        params.rear_to_centre_m,
+        ego.front_x_m,
+        ego.front_y_m,
+        ego.centre_x_m,
+        ego.centre_y_m,
+    )
 
 
 @njit(cache=True)
-def _advance(xs, ys, kappas, inv_spacing, width, offsets, k_lat, k_head, max_kappa, max_accel, max_decel, lag,
-             max_jerk, dt, command, x, y, hx, hy, speed, accel, actuator, station, curvature,
-             lateral_error):  # pragma: no cover (compiled)
+def _advance(
+    xs,
+    ys,
+    tangents,
+    kappas,
+    inv_spacing,
+    width,
+    offsets,
+    k_lat,
+    k_head,
+    max_kappa,
+    max_accel,
+    max_decel,
+    lag,
+    max_jerk,
+    dt,
+    command,
+    x,
+    y,
+    hx,
+    hy,
+    speed,
+    accel,
+    actuator,
+    station,
+    curvature,
+    lateral_error,
+    rear_to_front,
+    rear_to_centre,
+    front_x,
+    front_y,
+    centre_x,
+    centre_y,
+):  # pragma: no cover (compiled)
     for b in range(x.shape[0]):
         # lateral: track the route from the current pose
-        s, px, py, tx, ty, kappa = project_point(xs, ys, kappas, inv_spacing, width, offsets[b], station[b],
-                                                 x[b], y[b], 1)
+        s, px, py, tx, ty, kappa = project_point(
+            xs, ys, tangents, kappas, inv_spacing, width, offsets[b], station[b], x[b], y[b], 1
+        )
         lateral = tx * (y[b] - py) - ty * (x[b] - px)
         sin_heading_error = tx * hy[b] - ty * hx[b]
         turn_rate = kappa - k_lat[b] * lateral - k_head[b] * sin_heading_error
@@ -77,3 +133,5 @@ def _advance(xs, ys, kappas, inv_spacing, width, offsets, k_lat, k_head, max_kap
         station[b] = s + distance
         curvature[b] = turn_rate
         lateral_error[b] = lateral
+        front_x[b], front_y[b] = x[b] + rear_to_front[b] * hx[b], y[b] + rear_to_front[b] * hy[b]
+        centre_x[b], centre_y[b] = x[b] + rear_to_centre[b] * hx[b], y[b] + rear_to_centre[b] * hy[b]

@@ -15,16 +15,16 @@ import numpy as np
 
 from vrusim.errors import UserInputError
 from vrusim.metrics.streaming import RunMetrics
-from vrusim.metrics.ttc import time_to_collision
+from vrusim.metrics.ttc import ttc_batch
 from vrusim.planners.base import Planner
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.batch import BatchParams, pack
-from vrusim.sim.contact import rectangle_circle_clearance
+from vrusim.sim.contact import clearance_batch
 from vrusim.sim.ego_dynamics import advance_egos
 from vrusim.sim.observation import Observation, fuse
 from vrusim.sim.sensing import sense
-from vrusim.sim.state import ego_centre, ego_front, initial_ego, initial_vrus
+from vrusim.sim.state import initial_ego, initial_vrus
 from vrusim.sim.v2x import Channel, IdealChannel, rsu_broadcast
 from vrusim.sim.vru_motion import advance_vrus
 
@@ -68,21 +68,41 @@ def simulate(
     dt = params.dt_s
     recorder = _TraceRecorder() if trace else None
     step = 0
-    for step in range(params.n_steps):  # noqa: B007 (the count is reported)
+    for step in range(params.n_steps):
         t = step * dt
-        front_x, front_y = ego_front(params, ego)
+        front_x, front_y = ego.front_x_m.copy(), ego.front_y_m.copy()
         sensed = sense(params, front_x, front_y, ego, vrus)
-        centre_x, centre_y = ego_centre(params, ego)
-        messages = channel.deliver(t, rsu_broadcast(params, centre_x, centre_y, vrus.x_m, vrus.y_m,
-                                                    vrus.vx_mps, vrus.vy_mps))
+        messages = channel.deliver(
+            t,
+            rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps),
+        )
         detected, source, obs_x, obs_y, obs_vx, obs_vy, age = fuse(
             sensed, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps, messages
         )
         metrics.record_detection(t, active, sensed, messages.received)
         observation = Observation(
-            t, dt, ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m,
-            params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m, params.routes,
-            params.route_offset, detected, source, obs_x, obs_y, obs_vx, obs_vy, params.vru_radius_m, age,
+            t,
+            dt,
+            ego.x_m,
+            ego.y_m,
+            ego.heading_x,
+            ego.heading_y,
+            ego.speed_mps,
+            ego.accel_mps2,
+            ego.station_m,
+            params.cruise_speed_mps,
+            params.rear_to_front_m,
+            params.half_width_m,
+            params.routes,
+            params.route_offset,
+            detected,
+            source,
+            obs_x,
+            obs_y,
+            obs_vx,
+            obs_vy,
+            params.vru_radius_m,
+            age,
         )
         old_mode = getattr(planner, "mode", None)
         old_mode = None if old_mode is None else old_mode.copy()
@@ -94,18 +114,37 @@ def simulate(
         advance_egos(params, ego, command)
         t_next = (step + 1) * dt
 
-        centre_x, centre_y = ego_centre(params, ego)
-        clearance, outline_x, outline_y = rectangle_circle_clearance(
-            centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m, params.half_width_m,
-            vrus.x_m, vrus.y_m, params.vru_radius_m,
+        centre_x, centre_y = ego.centre_x_m, ego.centre_y_m
+        clearance, outline_x, outline_y = clearance_batch(
+            centre_x,
+            centre_y,
+            ego.heading_x,
+            ego.heading_y,
+            params.half_length_m,
+            params.half_width_m,
+            vrus.x_m,
+            vrus.y_m,
+            params.vru_radius_m,
         )
         ego_vx, ego_vy = ego.speed_mps * ego.heading_x, ego.speed_mps * ego.heading_y
-        ttc = time_to_collision(
-            centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m, params.half_width_m,
-            ego_vx, ego_vy, vrus.x_m, vrus.y_m, params.vru_radius_m, vrus.vx_mps, vrus.vy_mps,
+        ttc = ttc_batch(
+            centre_x,
+            centre_y,
+            ego.heading_x,
+            ego.heading_y,
+            params.half_length_m,
+            params.half_width_m,
+            ego_vx,
+            ego_vy,
+            vrus.x_m,
+            vrus.y_m,
+            params.vru_radius_m,
+            vrus.vx_mps,
+            vrus.vy_mps,
         )
-        metrics.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus.vx_mps,
-                            vrus.vy_mps)
+        metrics.record_step(
+            t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus.vx_mps, vrus.vy_mps
+        )
         if recorder is not None:
             recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
         active = (

@@ -55,14 +55,29 @@ def fuse(sensed: np.ndarray, truth_x, truth_y, truth_vx, truth_vy, v2x: V2xMessa
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
     out = np.empty((5, *shape))
-    _fuse(sensed, truth_x, truth_y, truth_vx, truth_vy, v2x.received, v2x.x_m, v2x.y_m, v2x.vx_mps, v2x.vy_mps,
-          v2x.age_s, detected, source, out)
+    _fuse(
+        sensed,
+        truth_x,
+        truth_y,
+        truth_vx,
+        truth_vy,
+        v2x.received,
+        v2x.x_m,
+        v2x.y_m,
+        v2x.vx_mps,
+        v2x.vy_mps,
+        v2x.age_s,
+        detected,
+        source,
+        out,
+    )
     return detected, source, out[0], out[1], out[2], out[3], out[4]
 
 
 @njit(cache=True)
-def _fuse(sensed, tx, ty, tvx, tvy, received, mx, my, mvx, mvy, mage, detected, source,
-          out):  # pragma: no cover (compiled)
+def _fuse(
+    sensed, tx, ty, tvx, tvy, received, mx, my, mvx, mvy, mage, detected, source, out
+):  # pragma: no cover (compiled)
     B, K = sensed.shape
     for b in range(B):
         for k in range(K):
@@ -70,7 +85,17 @@ def _fuse(sensed, tx, ty, tvx, tvy, received, mx, my, mvx, mvy, mage, detected, 
             source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
             if sensed[b, k]:
                 out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k], out[4, b, k] = (
-                    tx[b, k], ty[b, k], tvx[b, k], tvy[b, k], 0.0)
+                    tx[b, k],
+                    ty[b, k],
+                    tvx[b, k],
+                    tvy[b, k],
+                    0.0,
+                )
             else:
                 out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k], out[4, b, k] = (
-                    mx[b, k], my[b, k], mvx[b, k], mvy[b, k], mage[b, k])
+                    mx[b, k],
+                    my[b, k],
+                    mvx[b, k],
+                    mvy[b, k],
+                    mage[b, k],
+                )

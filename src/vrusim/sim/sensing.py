@@ -32,26 +32,51 @@ def _distances(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, px, py):  # 
     out = np.empty((B, K))
     for b in range(B):
         for k in range(K):
-            out[b, k] = sector_distance(px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b], range_m[b],
-                                        cos_half[b], sin_half[b])
+            out[b, k] = sector_distance(
+                px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b], range_m[b], cos_half[b], sin_half[b]
+            )
     return out
 
 
 @njit(cache=True)
-def _perceived(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius,
-               out):  # pragma: no cover (compiled)
+def _perceived(
+    apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out
+):  # pragma: no cover (compiled)
     B, K = px.shape
     for b in range(B):
         for k in range(K):
-            out[b, k] = enabled[b] and sector_distance(px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b],
-                                                       range_m[b], cos_half[b], sin_half[b]) <= radius[b, k]
+            out[b, k] = (
+                enabled[b]
+                and sector_distance(
+                    px[b, k] - apex_x[b],
+                    py[b, k] - apex_y[b],
+                    hx[b],
+                    hy[b],
+                    range_m[b],
+                    cos_half[b],
+                    sin_half[b],
+                )
+                <= radius[b, k]
+            )
 
 
 def sense(params, front_x: np.ndarray, front_y: np.ndarray, ego, vrus) -> np.ndarray:
     """Which VRUs [B, K] each ego's sensor perceives now (engine fast path of `perceived`)."""
     out = np.empty(vrus.x_m.shape, dtype=bool)
-    _perceived(front_x, front_y, ego.heading_x, ego.heading_y, params.sensor_range_m, params.sensor_cos_half,
-               params.sensor_sin_half, params.sensor_enabled, vrus.x_m, vrus.y_m, params.vru_radius_m, out)
+    _perceived(
+        front_x,
+        front_y,
+        ego.heading_x,
+        ego.heading_y,
+        params.sensor_range_m,
+        params.sensor_cos_half,
+        params.sensor_sin_half,
+        params.sensor_enabled,
+        vrus.x_m,
+        vrus.y_m,
+        params.vru_radius_m,
+        out,
+    )
     return out
 
 

@@ -27,6 +27,12 @@ class EgoState:
     curvature_per_m: np.ndarray
     lateral_error_m: np.ndarray
     """Rear-axle offset from the route at the start of the last step, m (left positive)."""
+    front_x_m: np.ndarray
+    """Centre of the front bumper, m (derived from the pose, kept up to date by the dynamics)."""
+    front_y_m: np.ndarray
+    centre_x_m: np.ndarray
+    """Centre of the ego rectangle, m (derived from the pose)."""
+    centre_y_m: np.ndarray
 
 
 @dataclass
@@ -45,24 +51,35 @@ class VruState:
 def initial_ego(params: BatchParams) -> EgoState:
     """Egos at the start of their routes, at their start speed."""
     zeros = np.zeros(params.size)
-    x, y, tx, ty, kappa = params.routes.locate(params.route_offset, zeros)
-    return EgoState(x, y, tx, ty, params.start_speed_mps.copy(), zeros.copy(), zeros.copy(), zeros.copy(),
-                    zeros.copy(), zeros.copy())
+    x, y, tx, ty, _ = params.routes.locate(params.route_offset, zeros)
+    return EgoState(
+        x,
+        y,
+        tx,
+        ty,
+        params.start_speed_mps.copy(),
+        zeros.copy(),
+        zeros.copy(),
+        zeros.copy(),
+        zeros.copy(),
+        zeros.copy(),
+        x + params.rear_to_front_m * tx,
+        y + params.rear_to_front_m * ty,
+        x + params.rear_to_centre_m * tx,
+        y + params.rear_to_centre_m * ty,
+    )
 
 
 def initial_vrus(params: BatchParams) -> VruState:
     """VRUs at rest at the start of their paths."""
     zeros = np.zeros(params.vru_valid.shape)
     x, y, _, _, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
-    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), x.copy(), y.copy(),
-                    zeros.copy(), zeros.copy())
-
-
-def ego_front(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray]:
-    """Centre of the front bumper, m."""
-    return ego.x_m + params.rear_to_front_m * ego.heading_x, ego.y_m + params.rear_to_front_m * ego.heading_y
-
-
-def ego_centre(params: BatchParams, ego: EgoState) -> tuple[np.ndarray, np.ndarray]:
-    """Centre of the ego rectangle, m."""
-    return ego.x_m + params.rear_to_centre_m * ego.heading_x, ego.y_m + params.rear_to_centre_m * ego.heading_y
+    return VruState(
+        np.zeros(zeros.shape, dtype=bool),
+        zeros.copy(),
+        zeros.copy(),
+        x.copy(),
+        y.copy(),
+        zeros.copy(),
+        zeros.copy(),
+    )

@@ -54,14 +54,26 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_x, vru_y, vru_vx, vru_v
     The message arrays may be views of the simulation state: a channel that keeps messages must copy them.
     """
     received = np.empty(vru_x.shape, dtype=bool)
-    _coverage(params.v2x_enabled, params.rsu_x_m, params.rsu_y_m, params.comm_range_m, params.coverage_range_m,
-              params.vru_valid, ego_x, ego_y, vru_x, vru_y, received)
+    _coverage(
+        params.v2x_enabled,
+        params.rsu_x_m,
+        params.rsu_y_m,
+        params.comm_range_m,
+        params.coverage_range_m,
+        params.vru_valid,
+        ego_x,
+        ego_y,
+        vru_x,
+        vru_y,
+        received,
+    )
     return V2xMessages(received, vru_x, vru_y, vru_vx, vru_vy, np.zeros(received.shape))
 
 
 @njit(cache=True)
-def _coverage(enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y,
-              received):  # pragma: no cover (compiled)
+def _coverage(
+    enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received
+):  # pragma: no cover (compiled)
     B, K = vru_x.shape
     for b in range(B):
         ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]

@@ -17,18 +17,69 @@ from vrusim.sim.batch import TRIGGER_DISTANCE, TRIGGER_TIME, BatchParams
 from vrusim.sim.state import VruState
 
 
-def advance_vrus(params: BatchParams, vrus: VruState, t_s: float, front_x: np.ndarray, front_y: np.ndarray,
-                 ego_speed: np.ndarray) -> None:
+def advance_vrus(
+    params: BatchParams,
+    vrus: VruState,
+    t_s: float,
+    front_x: np.ndarray,
+    front_y: np.ndarray,
+    ego_speed: np.ndarray,
+) -> None:
     """Fire triggers from the ego state at t_s, then advance every VRU by one step (in place)."""
-    _advance(*params.vru_paths.arrays, params.vru_path_offset, params.trigger_kind, params.trigger_value,
-             params.trigger_x_m, params.trigger_y_m, params.vru_top_speed_mps, params.vru_max_accel_mps2,
-             params.vru_tau_s, params.dt_s, t_s, front_x, front_y, ego_speed, vrus.started, vrus.station_m,
-             vrus.speed_mps, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps)
+    _advance(
+        *params.vru_paths.arrays,
+        params.vru_path_offset,
+        params.trigger_kind,
+        params.trigger_value,
+        params.trigger_x_m,
+        params.trigger_y_m,
+        params.vru_top_speed_mps,
+        params.vru_max_accel_mps2,
+        params.vru_tau_s,
+        params.dt_s,
+        t_s,
+        front_x,
+        front_y,
+        ego_speed,
+        vrus.started,
+        vrus.station_m,
+        vrus.speed_mps,
+        vrus.x_m,
+        vrus.y_m,
+        vrus.vx_mps,
+        vrus.vy_mps,
+    )
 
 
 @njit(cache=True)
-def _advance(xs, ys, kappas, inv_spacing, width, offsets, kind, value, point_x, point_y, top, max_accel, tau,
-             dt, t, front_x, front_y, ego_speed, started, station, speed, x, y, vx, vy):  # pragma: no cover
+def _advance(
+    xs,
+    ys,
+    tangents,
+    kappas,
+    inv_spacing,
+    width,
+    offsets,
+    kind,
+    value,
+    point_x,
+    point_y,
+    top,
+    max_accel,
+    tau,
+    dt,
+    t,
+    front_x,
+    front_y,
+    ego_speed,
+    started,
+    station,
+    speed,
+    x,
+    y,
+    vx,
+    vy,
+):  # pragma: no cover
     B, K = station.shape
     for b in range(B):
         for k in range(K):
@@ -46,5 +97,5 @@ def _advance(xs, ys, kappas, inv_spacing, width, offsets, kind, value, point_x, 
             new_speed = speed[b, k] + accel * dt
             station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
             speed[b, k] = new_speed
-            px, py, tx, ty, _ = locate_point(xs, ys, kappas, inv_spacing, width, offsets[b, k], station[b, k])
+            px, py, tx, ty, _ = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offsets[b, k], station[b, k])
             x[b, k], y[b, k], vx[b, k], vy[b, k] = px, py, new_speed * tx, new_speed * ty
