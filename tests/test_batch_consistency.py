@@ -109,13 +109,6 @@ def test_batch_has_the_intended_mix(big_batch, variants):
 
 CATEGORIES = ["first", "last", "collided", "avoided-v2x", "avoided-no-v2x", "two-vrus", "two-vrus-v2x"]
 
-PADDING_BUG = (
-    "PathTable pads shorter path rows with `last + extra * direction` samples, while a table of width 2 "
-    "extrapolates `x0 + frac * dx`: a VRU beyond its sampled path (every heading_deg path after 0.2 m) "
-    "moves with different round-off (~1e-15 m) when the batch holds a longer path (e.g. the parked slot "
-    "of a variant with fewer VRUs), so results differ in the last bits between solo and batch runs"
-)
-
 
 @pytest.fixture(scope="module")
 def solo_runs(big_batch, variants):
@@ -159,21 +152,14 @@ def test_variant_alone_matches_variant_in_batch(big_batch, solo_runs, category):
 
 @pytest.mark.parametrize(
     "category",
-    [
-        pytest.param(c, marks=pytest.mark.xfail(strict=True, reason=PADDING_BUG))
-        if c == "two-vrus-v2x"
-        else c
-        for c in CATEGORIES
-    ],
+    CATEGORIES,
 )
 def test_variant_alone_bitwise_equals_variant_in_batch(big_batch, solo_runs, category):
     """Bit-for-bit: every result array of RunMetrics and the variant's transitions."""
     b, alone = solo_runs(category)
     for name, batch_values, alone_values in _compared_fields(big_batch.metrics, alone):
         mine, solo = batch_values[b], alone_values[0]
-        assert np.array_equal(mine, solo, equal_nan=True), (
-            f"variant {b} ({category}): {name} {mine!r} != {solo!r}"
-        )
+        assert np.array_equal(mine, solo, equal_nan=True), f"variant {b} ({category}): {name} {mine!r} != {solo!r}"
     assert variant_transitions(big_batch.metrics, b) == variant_transitions(alone, 0)
 
 
@@ -206,9 +192,7 @@ def test_batch_order_does_not_matter(variants):
 
 
 def _far_vrus(count: int) -> list[dict]:
-    return [
-        {"type": "pedestrian", "start": [500.0 + 10.0 * k, 50.0], "heading_deg": 90.0} for k in range(count)
-    ]
+    return [{"type": "pedestrian", "start": [500.0 + 10.0 * k, 50.0], "heading_deg": 90.0} for k in range(count)]
 
 
 def test_mixed_vru_counts_with_a_stopped_ego_emit_no_warning():
@@ -242,12 +226,9 @@ def _still_ego(vrus: list[dict], name: str = "solo", **sim) -> object:
     )
 
 
-@pytest.mark.xfail(strict=True, reason=PADDING_BUG)
 def test_vru_trajectory_bitwise_independent_of_other_paths_in_batch():
     """Minimal reproduction: a cyclist's trajectory alone vs next to a variant with a 10 m VRU path."""
-    cyclist = _still_ego(
-        [{"type": "cyclist", "start": [30.0, 9.0], "heading_deg": -90.0, "top_speed_mps": 4.0}]
-    )
+    cyclist = _still_ego([{"type": "cyclist", "start": [30.0, 9.0], "heading_deg": -90.0, "top_speed_mps": 4.0}])
     other = _still_ego([{"type": "pedestrian", "start": [40.0, -20.0], "path": [[40.0, -10.0]]}], "other")
     solo = simulate([cyclist], trace=True).trace
     pair = simulate([cyclist, other], trace=True).trace

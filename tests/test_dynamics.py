@@ -380,9 +380,7 @@ def test_dt_convergence_with_v2x(pedestrian_dt_runs):
     for dt, metrics in pedestrian_dt_runs.items():
         assert not metrics.collided[1], f"V2X on, dt={dt}: the ego must avoid the pedestrian"
         assert np.isnan(metrics.impact_ego_speed_mps[1])
-    assert (
-        abs(pedestrian_dt_runs[0.01].min_clearance_m[1] - pedestrian_dt_runs[0.005].min_clearance_m[1]) < 0.2
-    )
+    assert abs(pedestrian_dt_runs[0.01].min_clearance_m[1] - pedestrian_dt_runs[0.005].min_clearance_m[1]) < 0.2
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -34,9 +34,7 @@ def _sector_args(apex, heading_rad, range_m, fov_deg):
 def sector_distance(apex, heading_rad, range_m, fov_deg, points):
     """distance_to_sector for one sector and a list of points → 1-D array."""
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    out = distance_to_sector(
-        *_sector_args(apex, heading_rad, range_m, fov_deg), pts[None, :, 0], pts[None, :, 1]
-    )
+    out = distance_to_sector(*_sector_args(apex, heading_rad, range_m, fov_deg), pts[None, :, 0], pts[None, :, 1])
     assert out.shape == (1, len(pts))
     return out[0]
 
@@ -103,9 +101,7 @@ def test_angular_edges(fov, heading):
 @pytest.mark.parametrize("heading", HEADINGS, ids=lambda h: f"h{math.degrees(h):.0f}")
 def test_full_circle_has_no_angular_edge(heading):
     # fov 360: every direction is inside, including straight behind
-    pts = [
-        polar(APEX, heading, rho, angle) for rho in (0.1, 10.0, RANGE - EPS) for angle in (math.pi, -3.0, 2.0)
-    ]
+    pts = [polar(APEX, heading, rho, angle) for rho in (0.1, 10.0, RANGE - EPS) for angle in (math.pi, -3.0, 2.0)]
     assert np.all(sector_distance(APEX, heading, RANGE, 360.0, pts) == 0.0)
     behind_far = polar(APEX, heading, RANGE + 2.0, math.pi)
     assert sector_distance(APEX, heading, RANGE, 360.0, [behind_far])[0] == pytest.approx(2.0, abs=1e-9)
@@ -185,9 +181,7 @@ def test_each_variant_uses_its_own_sector():
     )
     assert got.shape == (4, 3)
     for b in range(4):
-        expected = reference_sector_distance(
-            apex[b, 0], apex[b, 1], heading[b], range_m[b], fov[b], px[b], py[b]
-        )
+        expected = reference_sector_distance(apex[b, 0], apex[b, 1], heading[b], range_m[b], fov[b], px[b], py[b])
         np.testing.assert_allclose(got[b], expected, rtol=0, atol=1e-9)
     radius = np.full((4, 3), 0.5)
     enabled = np.array([True, True, False, True])

@@ -46,6 +46,7 @@ def analyse_vru(
     ys,
     tangents,
     kappas,
+    counts,
     inv_spacing,
     width,
     offset,
@@ -62,7 +63,7 @@ def analyse_vru(
 ):  # pragma: no cover (compiled)
     """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s)."""
     station, px, py, tx, ty, _ = project_point(
-        xs, ys, tangents, kappas, inv_spacing, width, offset, station_guess, x, y, 2
+        xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station_guess, x, y, 2
     )
     lateral = tx * (y - py) - ty * (x - px)
     along = vx * tx + vy * ty
@@ -82,6 +83,7 @@ def analyse_vru(
         ys,
         tangents,
         kappas,
+        counts,
         inv_spacing,
         width,
         offset,
@@ -156,6 +158,7 @@ def _analyse_batch(
     ys,
     tangents,
     kappas,
+    counts,
     inv_spacing,
     width,
     offsets,
@@ -186,6 +189,7 @@ def _analyse_batch(
                 ys,
                 tangents,
                 kappas,
+                counts,
                 inv_spacing,
                 width,
                 offsets[b],

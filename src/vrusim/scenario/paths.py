@@ -169,6 +169,7 @@ class PathTable:
                 table[row, len(sample) :, 2:4] = direction
                 table[row, len(sample) :, 4] = 0.0
         self.width = width
+        self._counts = np.array([len(sample) for sample in samples], dtype=np.int64)
         self._x = np.ascontiguousarray(table[:, :, 0]).ravel()
         self._y = np.ascontiguousarray(table[:, :, 1]).ravel()
         self._kappa = np.ascontiguousarray(table[:, :, 4]).ravel()
@@ -180,8 +181,12 @@ class PathTable:
 
     @property
     def arrays(self) -> tuple:
-        """(x, y, segment unit tangents, curvature, 1 / spacing, width): what compiled kernels need."""
-        return self._x, self._y, self._tangent, self._kappa, 1.0 / self.spacing_m, self.width
+        """(x, y, segment unit tangents, curvature, samples per row, 1 / spacing, width) for compiled kernels.
+
+        Beyond a path's last sample, evaluation extends its own last segment (never the padding), so a path
+        gives bit-identical results whatever else shares the table.
+        """
+        return self._x, self._y, self._tangent, self._kappa, self._counts, 1.0 / self.spacing_m, self.width
 
     def locate(self, row_offset: np.ndarray, station_m: np.ndarray):
         """Return (x, y, unit tangent x, unit tangent y, curvature) at `station_m` of each path.
@@ -216,10 +221,10 @@ class PathTable:
 
 
 @njit(cache=True, inline="always")
-def locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station):  # pragma: no cover
+def locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station):  # pragma: no cover
     """(x, y, unit tangent x, unit tangent y, curvature) of one path at one station (compiled)."""
     scaled = station * inv_spacing
-    j = min(max(math.floor(scaled), 0), width - 2)
+    j = min(max(math.floor(scaled), 0), counts[offset // width] - 2)
     flat = offset + j
     frac = scaled - j
     x0, y0 = xs[flat], ys[flat]
@@ -234,35 +239,35 @@ def locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station):
 
 @njit(cache=True, inline="always")
 def project_point(
-    xs, ys, tangents, kappas, inv_spacing, width, offset, station, px, py, iterations
+    xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station, px, py, iterations
 ):  # pragma: no cover (compiled)
     """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
     for _ in range(iterations):
-        x, y, tx, ty, _k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station)
+        x, y, tx, ty, _k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station)
         station = station + (px - x) * tx + (py - y) * ty
-    x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offset, station)
+    x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station)
     return station, x, y, tx, ty, k
 
 
 @njit(cache=True)
-def _locate_many(xs, ys, tangents, kappas, inv_spacing, width, offsets, stations):  # pragma: no cover
+def _locate_many(xs, ys, tangents, kappas, counts, inv_spacing, width, offsets, stations):  # pragma: no cover
     n = stations.shape[0]
     out = np.empty((5, n))
     for i in range(n):
-        x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offsets[i], stations[i])
+        x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[i], stations[i])
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4]
 
 
 @njit(cache=True)
 def _project_many(
-    xs, ys, tangents, kappas, inv_spacing, width, offsets, stations, px, py, iterations
+    xs, ys, tangents, kappas, counts, inv_spacing, width, offsets, stations, px, py, iterations
 ):  # pragma: no cover (compiled)
     n = stations.shape[0]
     out = np.empty((6, n))
     for i in range(n):
         s, x, y, tx, ty, k = project_point(
-            xs, ys, tangents, kappas, inv_spacing, width, offsets[i], stations[i], px[i], py[i], iterations
+            xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[i], stations[i], px[i], py[i], iterations
         )
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], out[5, i] = s, x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4], out[5]

@@ -71,6 +71,7 @@ def _advance(
     ys,
     tangents,
     kappas,
+    counts,
     inv_spacing,
     width,
     offsets,
@@ -103,7 +104,7 @@ def _advance(
     for b in range(x.shape[0]):
         # lateral: track the route from the current pose
         s, px, py, tx, ty, kappa = project_point(
-            xs, ys, tangents, kappas, inv_spacing, width, offsets[b], station[b], x[b], y[b], 1
+            xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[b], station[b], x[b], y[b], 1
         )
         lateral = tx * (y[b] - py) - ty * (x[b] - px)
         sin_heading_error = tx * hy[b] - ty * hx[b]

@@ -57,6 +57,7 @@ def _advance(
     ys,
     tangents,
     kappas,
+    counts,
     inv_spacing,
     width,
     offsets,
@@ -97,5 +98,7 @@ def _advance(
             new_speed = speed[b, k] + accel * dt
             station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
             speed[b, k] = new_speed
-            px, py, tx, ty, _ = locate_point(xs, ys, tangents, kappas, inv_spacing, width, offsets[b, k], station[b, k])
+            px, py, tx, ty, _ = locate_point(
+                xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[b, k], station[b, k]
+            )
             x[b, k], y[b, k], vx[b, k], vy[b, k] = px, py, new_speed * tx, new_speed * ty
