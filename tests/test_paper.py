@@ -32,8 +32,9 @@ def test_event_time_within_tolerance_of_caption(reproduction, event):
 
 
 MOTORCYCLIST_V2X_REASON = (
-    "our FSM stops and yields to the motorcyclist (time loss ~4.7 s, TTC never finite) where the paper's ego only "
-    "slows gently; see docs/paper.md"
+    "our FSM pre-slows from the V2X message to a stop and yields to the motorcyclist (time loss ~4.7 s, TTC never "
+    "finite): comfort matches, safety and efficiency do not; the paper's ego seems to slow only briefly "
+    "(docs/paper.md)"
 )
 
 

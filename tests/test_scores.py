@@ -81,3 +81,16 @@ def test_scores_decrease_with_time_loss_and_jerk(loss_a, loss_b, j_a, j_b):
 def test_unknown_profile_names_the_field():
     with pytest.raises(UserInputError, match=r"metrics\.profile.*nope"):
         profile("nope")
+
+
+def test_unknown_profile_in_yaml_is_caught_at_load():
+    from vrusim.scenario.loading import scenario_from_mapping
+
+    data = {
+        "name": "x",
+        "ego": {"start": [0, 0], "cruise_speed_mps": 5},
+        "vrus": [{"type": "pedestrian", "start": [50, 5], "heading_deg": 0}],
+        "metrics": {"profile": "nope"},
+    }
+    with pytest.raises(UserInputError, match=r"metrics\.profile: unknown profile 'nope'"):
+        scenario_from_mapping(data)

@@ -120,7 +120,7 @@ def _apply_v2x(scenario, switch: V2XSwitch, file: Path):
     except ValidationError as error:
         from vrusim.scenario.loading import describe_validation_error
 
-        raise UserInputError(describe_validation_error(error, f"--v2x {switch.value} on {file}")) from None
+        raise UserInputError(describe_validation_error(error, f"{file} with --v2x {switch.value}")) from None
 
 
 def _summary_table(row: dict) -> Table:

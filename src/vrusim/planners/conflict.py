@@ -1,9 +1,10 @@
 """Conflict analysis of detected VRUs against the ego's own route (shared by rule-based planners).
 
 Each VRU track is projected onto the ego route (Frenet frame: station s along the route, lateral offset e,
-left positive) and its velocity split into along-route and cross-route parts. Under constant velocity in
-that frame, the VRU occupies the ego's corridor (|e| <= ego half width + VRU radius + margin) during a time
-window [t_in, t_out]. A VRU *conflicts* with the ego path when it is tracked, ahead of the ego's front bumper,
+left positive) and its velocity and acceleration split into along-route and cross-route parts. Under constant
+acceleration in that frame (a VRU setting off is predicted to keep speeding up; one at its top speed has none),
+the VRU occupies the ego's corridor (|e| <= ego half width + VRU radius + margin) during a time window
+[t_in, t_out]. A VRU *conflicts* with the ego path when it is tracked, ahead of the ego's front bumper,
 and its corridor window overlaps [0, horizon]. The distance to it is measured along the route from the front
 bumper to the VRU's near edge, at its current position or at its predicted corridor entry, whichever is
 nearer (the entry point matters on curved routes). A conflicting VRU in the corridor that moves along the
@@ -16,6 +17,7 @@ velocity.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,18 +28,62 @@ from vrusim.sim.observation import Observation
 
 LEAD_SPEED_MPS = 0.5
 """Along-route speed above which a VRU in the corridor counts as a lead, m/s."""
+TRACK_SIZE = 7
+"""A track row: time last seen s, then x, y, vx, vy, ax, ay of the last estimate."""
 
 
 @njit(cache=True, inline="always")
-def update_track(t, detected, x, y, vx, vy, memory_s, track):  # pragma: no cover (compiled)
-    """Refresh one track (array [seen_s, x, y, vx, vy]) and return (known, x, y, vx, vy) predicted to now."""
+def update_track(t, detected, estimate, b, k, memory_s, track):  # pragma: no cover (compiled)
+    """Refresh one track from `estimate[:, b, k]`; return (known, x, y, vx, vy, ax, ay) predicted to now.
+
+    A lost track is predicted at constant velocity (its acceleration is no longer trusted) until it is older
+    than `memory_s`.
+    """
     if detected:
-        track[0], track[1], track[2], track[3], track[4] = t, x, y, vx, vy
-        return True, x, y, vx, vy
+        track[0] = t
+        for row in range(6):
+            track[1 + row] = estimate[row, b, k]
+        return True, track[1], track[2], track[3], track[4], track[5], track[6]
     age = t - track[0]
-    if age > memory_s:
-        return False, track[1], track[2], track[3], track[4]
-    return True, track[1] + track[3] * age, track[2] + track[4] * age, track[3], track[4]
+    known = age <= memory_s
+    return known, track[1] + track[3] * age, track[2] + track[4] * age, track[3], track[4], 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def _positive_roots(a, b, c, out, count):  # pragma: no cover (compiled)
+    """Append the positive roots of a t^2 + b t + c = 0 to `out` (a may be 0); return the new count."""
+    if a == 0.0:
+        if b != 0.0 and -c / b > 0.0:
+            out[count] = -c / b
+            count += 1
+        return count
+    disc = b * b - 4.0 * a * c
+    if disc < 0.0:
+        return count
+    root = math.sqrt(disc)
+    for t in ((-b - root) / (2.0 * a), (-b + root) / (2.0 * a)):
+        if t > 0.0:
+            out[count] = t
+            count += 1
+    return count
+
+
+@njit(cache=True, inline="always")
+def corridor_window(lateral, cross_speed, cross_accel, half):  # pragma: no cover (compiled)
+    """First time window (s from now) in which |e(t)| <= half, e(t) = lateral + cross_speed t + cross_accel t^2/2.
+
+    Returns (t_in, t_out): t_in = -inf when inside now; (inf, -inf) when never inside.
+    """
+    roots = np.empty(4)
+    count = _positive_roots(0.5 * cross_accel, cross_speed, lateral - half, roots, 0)
+    count = _positive_roots(0.5 * cross_accel, cross_speed, lateral + half, roots, count)
+    crossings = np.sort(roots[:count])
+    inside = abs(lateral) <= half
+    if inside:
+        return -np.inf, crossings[0] if count > 0 else np.inf
+    if count == 0:
+        return np.inf, -np.inf
+    return crossings[0], crossings[1] if count > 1 else np.inf
 
 
 @njit(cache=True, inline="always")
@@ -60,6 +106,8 @@ def analyse_vru(
     y,
     vx,
     vy,
+    ax,
+    ay,
 ):  # pragma: no cover (compiled)
     """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s)."""
     station, px, py, tx, ty, _ = project_point(
@@ -70,13 +118,7 @@ def analyse_vru(
     cross = vy * tx - vx * ty
     half = half_width + radius + margin
     in_corridor = abs(lateral) <= half
-    if abs(cross) > 1e-6:
-        t1, t2 = (-half - lateral) / cross, (half - lateral) / cross
-        t_in, t_out = min(t1, t2), max(t1, t2)
-    elif in_corridor:
-        t_in, t_out = -np.inf, np.inf
-    else:
-        t_in, t_out = np.inf, -np.inf
+    t_in, t_out = corridor_window(lateral, cross, ay * tx - ax * ty, half)
     lead_time = min(max(t_in, 0.0), horizon)
     entry = project_point(
         xs,
@@ -88,8 +130,8 @@ def analyse_vru(
         width,
         offset,
         station,
-        x + vx * lead_time,
-        y + vy * lead_time,
+        x + (vx + 0.5 * ax * lead_time) * lead_time,
+        y + (vy + 0.5 * ay * lead_time) * lead_time,
         2,
     )[0]
     distance = max(min(station, entry) - radius - front_station, 0.0)
@@ -125,10 +167,7 @@ class ConflictTracker:
         """Conflict facts for every VRU slot of every variant."""
         shape = obs.vru_x_m.shape
         if self.tracks is None:
-            self.tracks = np.zeros((*shape, 5))
-            self.tracks[..., 0] = -np.inf
-            offsets = np.broadcast_to(obs.route_offset[:, None], shape)
-            self.station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
+            self.tracks, self.station = new_tracks(obs)
         out = np.empty((6, *shape))
         _analyse_batch(
             *obs.routes.arrays,
@@ -141,15 +180,22 @@ class ConflictTracker:
             self.horizon_s,
             self.memory_s,
             obs.detected,
-            obs.vru_x_m,
-            obs.vru_y_m,
-            obs.vru_vx_mps,
-            obs.vru_vy_mps,
+            obs.vru_estimate,
             self.tracks,
             self.station,
             out,
         )
         return Conflicts(out[0] > 0.5, out[1] > 0.5, out[2], out[3], out[4], out[5])
+
+
+def new_tracks(obs: Observation) -> tuple[np.ndarray, np.ndarray]:
+    """Empty tracks [B, K, TRACK_SIZE] and cold-start stations of every VRU on the ego route."""
+    shape = obs.vru_x_m.shape
+    tracks = np.zeros((*shape, TRACK_SIZE))
+    tracks[..., 0] = -np.inf
+    offsets = np.broadcast_to(obs.route_offset[:, None], shape)
+    station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
+    return tracks, station
 
 
 @njit(cache=True)
@@ -170,20 +216,15 @@ def _analyse_batch(
     horizon,
     memory,
     detected,
-    vx_x,
-    vx_y,
-    v_vx,
-    v_vy,
+    estimate,
     tracks,
     station,
     out,
 ):  # pragma: no cover
-    B, K = vx_x.shape
+    B, K = detected.shape
     for b in range(B):
         for k in range(K):
-            known, x, y, vx, vy = update_track(
-                t, detected[b, k], vx_x[b, k], vx_y[b, k], v_vx[b, k], v_vy[b, k], memory[b], tracks[b, k]
-            )
+            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, memory[b], tracks[b, k])
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
                 xs,
                 ys,
@@ -203,6 +244,8 @@ def _analyse_batch(
                 y,
                 vx,
                 vy,
+                ax,
+                ay,
             )
             if known:
                 station[b, k] = s

@@ -8,9 +8,10 @@ VRU riding ahead in the ego's lane (the paper's "stable following state" of the 
   gentle constant deceleration.
 - Emergency-Brake: it is within D_safe; full emergency deceleration, held until the VRU has cleared the path
   (no conflicting VRU left), then Cruise.
-- A crossing VRU is a threat only when its corridor window overlaps the ego's own occupancy of the conflict
-  zone at the current speed (floored at `arrival_min_speed_mps`), widened by `time_margin_s` (x 1.5 while in
-  Pre-Slow, a hysteresis): a VRU that will have crossed before the ego arrives does not slow it down.
+- A crossing VRU starts a slow-down only when its corridor window overlaps the ego's own occupancy of the
+  conflict zone at the current speed (floored at `arrival_min_speed_mps`), widened by `time_margin_s`: a VRU
+  that will have crossed before the ego arrives does not slow it down. Once slowing (Pre-Slow or
+  Emergency-Brake) the ego returns to Cruise only when the VRU has cleared the path, as in the paper.
 - Follow: the nearest conflict is a lead VRU moving along the ego path; IDM+ (Schakel, van Arem & Netten 2010,
   the Intelligent Driver Model of Treiber et al. 2000 with its equilibrium gap equal to s*) follows it:
   a = a_max min(1 - (v / v_cruise)^4, 1 - (s* / gap)^2) with
@@ -27,7 +28,7 @@ from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
-from vrusim.planners.conflict import analyse_vru, update_track
+from vrusim.planners.conflict import analyse_vru, new_tracks, update_track
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.observation import Observation
@@ -82,15 +83,13 @@ class FsmPlanner:
         self.table = np.array([[getattr(p, name) for name in PARAM_ORDER] for p in per_variant])
         self.zone_length = 2.0 * params.half_length_m + 2.0 * params.half_width_m
         self.mode = np.zeros(params.size, dtype=np.int8)
-        self.tracks = np.zeros((*params.vru_valid.shape, 5))
-        self.tracks[..., 0] = -np.inf
+        self.tracks: np.ndarray | None = None
         self.station: np.ndarray | None = None
 
     def act(self, obs: Observation) -> np.ndarray:
         """Update each variant's state from the nearest threatening VRU; return its acceleration command."""
-        if self.station is None:
-            offsets = np.broadcast_to(obs.route_offset[:, None], obs.vru_x_m.shape)
-            self.station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
+        if self.tracks is None:
+            self.tracks, self.station = new_tracks(obs)
         command = np.empty(self.mode.shape)
         _fsm_step(
             *obs.routes.arrays,
@@ -102,10 +101,7 @@ class FsmPlanner:
             obs.half_width_m,
             self.zone_length,
             obs.detected,
-            obs.vru_x_m,
-            obs.vru_y_m,
-            obs.vru_vx_mps,
-            obs.vru_vy_mps,
+            obs.vru_estimate,
             obs.vru_radius_m,
             self.table,
             self.tracks,
@@ -169,10 +165,7 @@ def _fsm_step(
     half_width,
     zone_length,
     detected,
-    vru_x,
-    vru_y,
-    vru_vx,
-    vru_vy,
+    estimate,
     radius,
     p,
     tracks,
@@ -180,23 +173,15 @@ def _fsm_step(
     mode,
     command,
 ):  # pragma: no cover (compiled)
-    B, K = vru_x.shape
+    B, K = detected.shape
     for b in range(B):
         v = speed[b]
         arrival_speed = max(v, p[b, _ARRIVAL_SPEED])
-        margin = p[b, _TIME_MARGIN] * (1.5 if mode[b] == PRE_SLOW else 1.0)
+        margin = p[b, _TIME_MARGIN]
+        braking = mode[b] == PRE_SLOW or mode[b] == EMERGENCY_BRAKE
         gap, lead_speed, is_lead = np.inf, 0.0, False
         for k in range(K):
-            known, x, y, vx, vy = update_track(
-                t,
-                detected[b, k],
-                vru_x[b, k],
-                vru_y[b, k],
-                vru_vx[b, k],
-                vru_vy[b, k],
-                p[b, _MEMORY],
-                tracks[b, k],
-            )
+            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
             if not known:
                 continue
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
@@ -218,6 +203,8 @@ def _fsm_step(
                 y,
                 vx,
                 vy,
+                ax,
+                ay,
             )
             station[b, k] = s
             if not conflict:
@@ -225,7 +212,7 @@ def _fsm_step(
             arrive = distance / arrival_speed
             clear = (distance + zone_length[b] + 2.0 * radius[b, k]) / arrival_speed
             overlap = t_in <= clear + margin and t_out >= arrive - margin
-            if (lead or overlap or mode[b] == EMERGENCY_BRAKE) and distance < gap:
+            if (lead or overlap or braking) and distance < gap:
                 gap, lead_speed, is_lead = distance, along, lead
         if gap == np.inf:
             mode[b] = CRUISE

@@ -206,7 +206,6 @@ class SimSettings(_Frozen):
     duration_s: float = Field(15.0, gt=0, le=3600)
     stop_on_collision: bool = True
     stop_at_route_end: bool = True
-    seed: int = Field(0, ge=0)
 
     @model_validator(mode="after")
     def _enough_steps(self) -> Self:
@@ -219,6 +218,15 @@ class MetricsSettings(_Frozen):
     """Which score calibration profile to use (see docs/metrics.md)."""
 
     profile: str = "paper"
+
+    @field_validator("profile")
+    @classmethod
+    def _known_profile(cls, name: str) -> str:
+        from vrusim.metrics.scores import PROFILES
+
+        if name not in PROFILES:
+            raise ValueError(f"unknown profile {name!r}; expected one of: {', '.join(sorted(PROFILES))}")
+        return name
 
 
 class Scenario(_Frozen):

@@ -74,11 +74,9 @@ def simulate(
         sensed = sense(params, front_x, front_y, ego, vrus)
         messages = channel.deliver(
             t,
-            rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps),
+            rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.kinematics),
         )
-        detected, source, obs_x, obs_y, obs_vx, obs_vy, age = fuse(
-            sensed, vrus.x_m, vrus.y_m, vrus.vx_mps, vrus.vy_mps, messages
-        )
+        detected, source, estimate = fuse(sensed, vrus.kinematics, messages)
         metrics.record_detection(t, active, sensed, messages.received)
         observation = Observation(
             t,
@@ -97,12 +95,8 @@ def simulate(
             params.route_offset,
             detected,
             source,
-            obs_x,
-            obs_y,
-            obs_vx,
-            obs_vy,
+            estimate,
             params.vru_radius_m,
-            age,
         )
         old_mode = getattr(planner, "mode", None)
         old_mode = None if old_mode is None else old_mode.copy()

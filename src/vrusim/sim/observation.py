@@ -20,7 +20,8 @@ SOURCE_V2X = 2
 class Observation:
     """Planner input for a batch. Ego fields are [B]; VRU fields [B, K]. SI units, world frame.
 
-    A VRU's estimate comes from the sensor when it perceives it, else from the latest V2X message.
+    A VRU's estimate comes from the sensor when it perceives it, else from this step's V2X message (the
+    channel decides what arrives now; keeping older information is the planner's business, e.g. its tracks).
     Entries where `detected` is False carry no information and must be ignored.
     """
 
@@ -42,60 +43,58 @@ class Observation:
     # detections
     detected: np.ndarray
     source: np.ndarray
-    vru_x_m: np.ndarray
-    vru_y_m: np.ndarray
-    vru_vx_mps: np.ndarray
-    vru_vy_mps: np.ndarray
+    vru_estimate: np.ndarray
+    """[7, B, K]: x m, y m, vx m/s, vy m/s, ax m/s^2, ay m/s^2, age s of each VRU estimate."""
     vru_radius_m: np.ndarray
-    vru_age_s: np.ndarray
+
+    @property
+    def vru_x_m(self) -> np.ndarray:
+        return self.vru_estimate[0]
+
+    @property
+    def vru_y_m(self) -> np.ndarray:
+        return self.vru_estimate[1]
+
+    @property
+    def vru_vx_mps(self) -> np.ndarray:
+        return self.vru_estimate[2]
+
+    @property
+    def vru_vy_mps(self) -> np.ndarray:
+        return self.vru_estimate[3]
+
+    @property
+    def vru_ax_mps2(self) -> np.ndarray:
+        return self.vru_estimate[4]
+
+    @property
+    def vru_ay_mps2(self) -> np.ndarray:
+        return self.vru_estimate[5]
+
+    @property
+    def vru_age_s(self) -> np.ndarray:
+        return self.vru_estimate[6]
 
 
-def fuse(sensed: np.ndarray, truth_x, truth_y, truth_vx, truth_vy, v2x: V2xMessages):
-    """Union of sensor and V2X detections: (detected, source bits, x, y, vx, vy, age); sensor wins."""
+def fuse(sensed: np.ndarray, truth: np.ndarray, v2x: V2xMessages) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Union of sensor and V2X detections: (detected [B, K], source bits [B, K], estimate [7, B, K]).
+
+    The estimate stacks x, y, vx, vy, ax, ay (as `truth`, [6, B, K]) and the age in s; the sensor wins.
+    """
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
-    out = np.empty((5, *shape))
-    _fuse(
-        sensed,
-        truth_x,
-        truth_y,
-        truth_vx,
-        truth_vy,
-        v2x.received,
-        v2x.x_m,
-        v2x.y_m,
-        v2x.vx_mps,
-        v2x.vy_mps,
-        v2x.age_s,
-        detected,
-        source,
-        out,
-    )
-    return detected, source, out[0], out[1], out[2], out[3], out[4]
+    estimate = np.empty((7, *shape))
+    _fuse(sensed, truth, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
+    return detected, source, estimate
 
 
 @njit(cache=True)
-def _fuse(
-    sensed, tx, ty, tvx, tvy, received, mx, my, mvx, mvy, mage, detected, source, out
-):  # pragma: no cover (compiled)
+def _fuse(sensed, truth, received, message, age, detected, source, out):  # pragma: no cover (compiled)
     B, K = sensed.shape
     for b in range(B):
         for k in range(K):
             detected[b, k] = sensed[b, k] or received[b, k]
             source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
-            if sensed[b, k]:
-                out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k], out[4, b, k] = (
-                    tx[b, k],
-                    ty[b, k],
-                    tvx[b, k],
-                    tvy[b, k],
-                    0.0,
-                )
-            else:
-                out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k], out[4, b, k] = (
-                    mx[b, k],
-                    my[b, k],
-                    mvx[b, k],
-                    mvy[b, k],
-                    mage[b, k],
-                )
+            for row in range(6):
+                out[row, b, k] = truth[row, b, k] if sensed[b, k] else message[row, b, k]
+            out[6, b, k] = 0.0 if sensed[b, k] else age[b, k]

@@ -35,17 +35,43 @@ class EgoState:
     centre_y_m: np.ndarray
 
 
+KINEMATICS = ("x_m", "y_m", "vx_mps", "vy_mps", "ax_mps2", "ay_mps2")
+"""Rows of a VRU kinematics stack [6, B, K]: position, velocity and acceleration, world frame, SI units."""
+
+
 @dataclass
 class VruState:
-    """Path-constrained point masses, [B, K]."""
+    """Path-constrained point masses, [B, K]. `kinematics` [6, B, K] stacks the rows of `KINEMATICS`."""
 
     started: np.ndarray
     station_m: np.ndarray
     speed_mps: np.ndarray
-    x_m: np.ndarray
-    y_m: np.ndarray
-    vx_mps: np.ndarray
-    vy_mps: np.ndarray
+    kinematics: np.ndarray
+
+    @property
+    def x_m(self) -> np.ndarray:
+        return self.kinematics[0]
+
+    @property
+    def y_m(self) -> np.ndarray:
+        return self.kinematics[1]
+
+    @property
+    def vx_mps(self) -> np.ndarray:
+        return self.kinematics[2]
+
+    @property
+    def vy_mps(self) -> np.ndarray:
+        return self.kinematics[3]
+
+    @property
+    def ax_mps2(self) -> np.ndarray:
+        """Acceleration along the path over the last step, as a world-frame vector, m/s^2."""
+        return self.kinematics[4]
+
+    @property
+    def ay_mps2(self) -> np.ndarray:
+        return self.kinematics[5]
 
 
 def initial_ego(params: BatchParams) -> EgoState:
@@ -74,12 +100,6 @@ def initial_vrus(params: BatchParams) -> VruState:
     """VRUs at rest at the start of their paths."""
     zeros = np.zeros(params.vru_valid.shape)
     x, y, _, _, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
-    return VruState(
-        np.zeros(zeros.shape, dtype=bool),
-        zeros.copy(),
-        zeros.copy(),
-        x.copy(),
-        y.copy(),
-        zeros.copy(),
-        zeros.copy(),
-    )
+    kinematics = np.zeros((len(KINEMATICS), *zeros.shape))
+    kinematics[0], kinematics[1] = x, y
+    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), kinematics)

@@ -19,13 +19,11 @@ from vrusim.sim.batch import BatchParams
 
 @dataclass
 class V2xMessages:
-    """VRU states as received by each ego, [B, K]; `received` marks valid entries, `age_s` their age."""
+    """VRU states as received by each ego: `received` [B, K] marks valid entries, `kinematics` [6, B, K] holds
+    position, velocity and acceleration (rows of `vrusim.sim.state.KINEMATICS`), `age_s` [B, K] their age."""
 
     received: np.ndarray
-    x_m: np.ndarray
-    y_m: np.ndarray
-    vx_mps: np.ndarray
-    vy_mps: np.ndarray
+    kinematics: np.ndarray
     age_s: np.ndarray
 
 
@@ -48,12 +46,12 @@ class IdealChannel:
         return sent
 
 
-def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_x, vru_y, vru_vx, vru_vy) -> V2xMessages:
+def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessages:
     """What the RSU sends to each ego this step: VRUs in its coverage, if the ego is within range.
 
     The message arrays may be views of the simulation state: a channel that keeps messages must copy them.
     """
-    received = np.empty(vru_x.shape, dtype=bool)
+    received = np.empty(vru_kinematics.shape[1:], dtype=bool)
     _coverage(
         params.v2x_enabled,
         params.rsu_x_m,
@@ -63,11 +61,11 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_x, vru_y, vru_vx, vru_v
         params.vru_valid,
         ego_x,
         ego_y,
-        vru_x,
-        vru_y,
+        vru_kinematics[0],
+        vru_kinematics[1],
         received,
     )
-    return V2xMessages(received, vru_x, vru_y, vru_vx, vru_vy, np.zeros(received.shape))
+    return V2xMessages(received, vru_kinematics, np.zeros(received.shape))
 
 
 @njit(cache=True)

@@ -44,10 +44,7 @@ def advance_vrus(
         vrus.started,
         vrus.station_m,
         vrus.speed_mps,
-        vrus.x_m,
-        vrus.y_m,
-        vrus.vx_mps,
-        vrus.vy_mps,
+        vrus.kinematics,
     )
 
 
@@ -76,10 +73,7 @@ def _advance(
     started,
     station,
     speed,
-    x,
-    y,
-    vx,
-    vy,
+    kin,
 ):  # pragma: no cover
     B, K = station.shape
     for b in range(B):
@@ -101,4 +95,5 @@ def _advance(
             px, py, tx, ty, _ = locate_point(
                 xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[b, k], station[b, k]
             )
-            x[b, k], y[b, k], vx[b, k], vy[b, k] = px, py, new_speed * tx, new_speed * ty
+            kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
+            kin[4, b, k], kin[5, b, k] = accel * tx, accel * ty
