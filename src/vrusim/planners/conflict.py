@@ -88,13 +88,7 @@ def corridor_window(lateral, cross_speed, cross_accel, half):  # pragma: no cove
 
 @njit(cache=True, inline="always")
 def analyse_vru(
-    xs,
-    ys,
-    tangents,
-    kappas,
-    counts,
-    inv_spacing,
-    width,
+    path,
     offset,
     station_guess,
     front_station,
@@ -110,9 +104,7 @@ def analyse_vru(
     ay,
 ):  # pragma: no cover (compiled)
     """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s)."""
-    station, px, py, tx, ty, _ = project_point(
-        xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station_guess, x, y, 2
-    )
+    station, px, py, tx, ty, _ = project_point(path, offset, station_guess, x, y, 2)
     lateral = tx * (y - py) - ty * (x - px)
     along = vx * tx + vy * ty
     cross = vy * tx - vx * ty
@@ -121,13 +113,7 @@ def analyse_vru(
     t_in, t_out = corridor_window(lateral, cross, ay * tx - ax * ty, half)
     lead_time = min(max(t_in, 0.0), horizon)
     entry = project_point(
-        xs,
-        ys,
-        tangents,
-        kappas,
-        counts,
-        inv_spacing,
-        width,
+        path,
         offset,
         station,
         x + (vx + 0.5 * ax * lead_time) * lead_time,
@@ -170,7 +156,7 @@ class ConflictTracker:
             self.tracks, self.station = new_tracks(obs)
         out = np.empty((6, *shape))
         _analyse_batch(
-            *obs.routes.arrays,
+            obs.routes.arrays,
             obs.route_offset,
             obs.t_s,
             obs.ego_station_m + obs.rear_to_front_m,
@@ -200,13 +186,7 @@ def new_tracks(obs: Observation) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True)
 def _analyse_batch(
-    xs,
-    ys,
-    tangents,
-    kappas,
-    counts,
-    inv_spacing,
-    width,
+    path,
     offsets,
     t,
     front_station,
@@ -226,13 +206,7 @@ def _analyse_batch(
         for k in range(K):
             known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, memory[b], tracks[b, k])
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-                xs,
-                ys,
-                tangents,
-                kappas,
-                counts,
-                inv_spacing,
-                width,
+                path,
                 offsets[b],
                 station[b, k],
                 front_station[b],

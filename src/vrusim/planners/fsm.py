@@ -92,7 +92,7 @@ class FsmPlanner:
             self.tracks, self.station = new_tracks(obs)
         command = np.empty(self.mode.shape)
         _fsm_step(
-            *obs.routes.arrays,
+            obs.routes.arrays,
             obs.route_offset,
             obs.t_s,
             obs.ego_station_m + obs.rear_to_front_m,
@@ -150,13 +150,7 @@ PARAM_ORDER = (
 
 @njit(cache=True)
 def _fsm_step(
-    xs,
-    ys,
-    tangents,
-    kappas,
-    counts,
-    inv_spacing,
-    width,
+    path,
     offsets,
     t,
     front_station,
@@ -185,13 +179,7 @@ def _fsm_step(
             if not known:
                 continue
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-                xs,
-                ys,
-                tangents,
-                kappas,
-                counts,
-                inv_spacing,
-                width,
+                path,
                 offsets[b],
                 station[b, k],
                 front_station[b],

@@ -194,7 +194,7 @@ class PathTable:
         `row_offset` is `row * width` (same shape as `station_m`).
         """
         shape = np.shape(station_m)
-        out = _locate_many(*self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float))
+        out = _locate_many(self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float))
         return tuple(a.reshape(shape) for a in out)
 
     def project(self, row_offset: np.ndarray, station_m: np.ndarray, px: np.ndarray, py: np.ndarray, iterations=2):
@@ -204,7 +204,7 @@ class PathTable:
         """
         shape = np.shape(station_m)
         out = _project_many(
-            *self.arrays,
+            self.arrays,
             np.ravel(row_offset),
             np.ravel(station_m).astype(float),
             np.ravel(px).astype(float),
@@ -221,8 +221,12 @@ class PathTable:
 
 
 @njit(cache=True, inline="always")
-def locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station):  # pragma: no cover
-    """(x, y, unit tangent x, unit tangent y, curvature) of one path at one station (compiled)."""
+def locate_point(path, offset, station):  # pragma: no cover
+    """(x, y, unit tangent x, unit tangent y, curvature) of one path at one station (compiled).
+
+    `path` is `PathTable.arrays`; `offset` is the path's row times the table width.
+    """
+    xs, ys, tangents, kappas, counts, inv_spacing, width = path
     scaled = station * inv_spacing
     j = min(max(math.floor(scaled), 0), counts[offset // width] - 2)
     flat = offset + j
@@ -238,37 +242,31 @@ def locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, s
 
 
 @njit(cache=True, inline="always")
-def project_point(
-    xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station, px, py, iterations
-):  # pragma: no cover (compiled)
+def project_point(path, offset, station, px, py, iterations):  # pragma: no cover (compiled)
     """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
     for _ in range(iterations):
-        x, y, tx, ty, _k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station)
+        x, y, tx, ty, _k = locate_point(path, offset, station)
         station = station + (px - x) * tx + (py - y) * ty
-    x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offset, station)
+    x, y, tx, ty, k = locate_point(path, offset, station)
     return station, x, y, tx, ty, k
 
 
 @njit(cache=True)
-def _locate_many(xs, ys, tangents, kappas, counts, inv_spacing, width, offsets, stations):  # pragma: no cover
+def _locate_many(path, offsets, stations):  # pragma: no cover
     n = stations.shape[0]
     out = np.empty((5, n))
     for i in range(n):
-        x, y, tx, ty, k = locate_point(xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[i], stations[i])
+        x, y, tx, ty, k = locate_point(path, offsets[i], stations[i])
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i] = x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4]
 
 
 @njit(cache=True)
-def _project_many(
-    xs, ys, tangents, kappas, counts, inv_spacing, width, offsets, stations, px, py, iterations
-):  # pragma: no cover (compiled)
+def _project_many(path, offsets, stations, px, py, iterations):  # pragma: no cover (compiled)
     n = stations.shape[0]
     out = np.empty((6, n))
     for i in range(n):
-        s, x, y, tx, ty, k = project_point(
-            xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[i], stations[i], px[i], py[i], iterations
-        )
+        s, x, y, tx, ty, k = project_point(path, offsets[i], stations[i], px[i], py[i], iterations)
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], out[5, i] = s, x, y, tx, ty, k
     return out[0], out[1], out[2], out[3], out[4], out[5]
 

@@ -35,7 +35,7 @@ def rotate(hx, hy, angle):  # pragma: no cover (compiled)
 def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) -> None:
     """Advance every ego by one step under the planner's acceleration command (m/s^2), in place."""
     _advance(
-        *params.routes.arrays,
+        params.routes.arrays,
         params.route_offset,
         params.lateral_gain,
         params.heading_gain,
@@ -67,13 +67,7 @@ def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) 
 
 @njit(cache=True)
 def _advance(
-    xs,
-    ys,
-    tangents,
-    kappas,
-    counts,
-    inv_spacing,
-    width,
+    path,
     offsets,
     k_lat,
     k_head,
@@ -103,9 +97,7 @@ def _advance(
 ):  # pragma: no cover (compiled)
     for b in range(x.shape[0]):
         # lateral: track the route from the current pose
-        s, px, py, tx, ty, kappa = project_point(
-            xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[b], station[b], x[b], y[b], 1
-        )
+        s, px, py, tx, ty, kappa = project_point(path, offsets[b], station[b], x[b], y[b], 1)
         lateral = tx * (y[b] - py) - ty * (x[b] - px)
         sin_heading_error = tx * hy[b] - ty * hx[b]
         turn_rate = kappa - k_lat[b] * lateral - k_head[b] * sin_heading_error

@@ -27,7 +27,7 @@ def advance_vrus(
 ) -> None:
     """Fire triggers from the ego state at t_s, then advance every VRU by one step (in place)."""
     _advance(
-        *params.vru_paths.arrays,
+        params.vru_paths.arrays,
         params.vru_path_offset,
         params.trigger_kind,
         params.trigger_value,
@@ -50,13 +50,7 @@ def advance_vrus(
 
 @njit(cache=True)
 def _advance(
-    xs,
-    ys,
-    tangents,
-    kappas,
-    counts,
-    inv_spacing,
-    width,
+    path,
     offsets,
     kind,
     value,
@@ -92,8 +86,6 @@ def _advance(
             new_speed = speed[b, k] + accel * dt
             station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
             speed[b, k] = new_speed
-            px, py, tx, ty, _ = locate_point(
-                xs, ys, tangents, kappas, counts, inv_spacing, width, offsets[b, k], station[b, k]
-            )
+            px, py, tx, ty, _ = locate_point(path, offsets[b, k], station[b, k])
             kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
             kin[4, b, k], kin[5, b, k] = accel * tx, accel * ty
