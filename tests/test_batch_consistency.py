@@ -236,3 +236,16 @@ def test_vru_trajectory_bitwise_independent_of_other_paths_in_batch():
     np.testing.assert_allclose(solo["vru_y_m"][:, 0, 0], pair["vru_y_m"][:, 0, 0], rtol=0, atol=1e-12)
     # ... but not bit for bit
     assert np.array_equal(solo["vru_y_m"][:, 0, 0], pair["vru_y_m"][:, 0, 0])
+
+
+def test_parallel_kernels_match_serial(monkeypatch, variants):
+    """Large batches run multi-threaded kernels: results must be bit-identical to the serial ones."""
+    from vrusim.sim import kernels
+
+    subset = variants[:64]
+    serial = simulate(subset)
+    monkeypatch.setattr(kernels, "PARALLEL_MIN_BATCH", 1)
+    parallel = simulate(subset)
+    assert np.array_equal(serial.metrics.values, parallel.metrics.values, equal_nan=True)
+    assert serial.metrics.transitions == parallel.metrics.transitions
+    assert np.array_equal(serial.metrics.collided, parallel.metrics.collided)

@@ -24,13 +24,14 @@ Conflicts are defined in `vrusim.planners.conflict`.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import prange
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
 
 CRUISE, PRE_SLOW, EMERGENCY_BRAKE, FOLLOW = 0, 1, 2, 3
@@ -92,6 +93,7 @@ class FsmPlanner:
             self.tracks, self.station = new_tracks(obs)
         command = np.empty(self.mode.shape)
         _fsm_step(
+            self.mode.shape[0],
             obs.routes.arrays,
             obs.route_offset,
             obs.t_s,
@@ -148,7 +150,7 @@ PARAM_ORDER = (
 ) = range(len(PARAM_ORDER))
 
 
-@njit(cache=True)
+@batch_kernel
 def _fsm_step(
     path,
     offsets,
@@ -168,7 +170,7 @@ def _fsm_step(
     command,
 ):  # pragma: no cover (compiled)
     B, K = detected.shape
-    for b in range(B):
+    for b in prange(B):
         v = speed[b]
         arrival_speed = max(v, p[b, _ARRIVAL_SPEED])
         margin = p[b, _TIME_MARGIN]

@@ -14,10 +14,11 @@ kappa * distance; position follows the mid-step heading. No trigonometric calls 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from vrusim.scenario.paths import project_point
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.state import EgoState
 
 
@@ -35,6 +36,7 @@ def rotate(hx, hy, angle):  # pragma: no cover (compiled)
 def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) -> None:
     """Advance every ego by one step under the planner's acceleration command (m/s^2), in place."""
     _advance(
+        params.size,
         params.routes.arrays,
         params.route_offset,
         params.lateral_gain,
@@ -65,7 +67,7 @@ def advance_egos(params: BatchParams, ego: EgoState, accel_command: np.ndarray) 
     )
 
 
-@njit(cache=True)
+@batch_kernel
 def _advance(
     path,
     offsets,
@@ -95,7 +97,7 @@ def _advance(
     centre_x,
     centre_y,
 ):  # pragma: no cover (compiled)
-    for b in range(x.shape[0]):
+    for b in prange(x.shape[0]):
         # lateral: track the route from the current pose
         s, px, py, tx, ty, kappa = project_point(path, offsets[b], station[b], x[b], y[b], 1)
         lateral = tx * (y[b] - py) - ty * (x[b] - px)

@@ -10,10 +10,11 @@ current speed, of a point); from then on it follows its profile open-loop and ne
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import prange
 
 from vrusim.scenario.paths import locate_point
 from vrusim.sim.batch import TRIGGER_DISTANCE, TRIGGER_TIME, BatchParams
+from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.state import VruState
 
 
@@ -27,6 +28,7 @@ def advance_vrus(
 ) -> None:
     """Fire triggers from the ego state at t_s, then advance every VRU by one step (in place)."""
     _advance(
+        params.size,
         params.vru_paths.arrays,
         params.vru_path_offset,
         params.trigger_kind,
@@ -48,7 +50,7 @@ def advance_vrus(
     )
 
 
-@njit(cache=True)
+@batch_kernel
 def _advance(
     path,
     offsets,
@@ -70,7 +72,7 @@ def _advance(
     kin,
 ):  # pragma: no cover
     B, K = station.shape
-    for b in range(B):
+    for b in prange(B):
         for k in range(K):
             if not started[b, k]:
                 if kind[b, k] == TRIGGER_TIME:
