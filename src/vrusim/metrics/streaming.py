@@ -7,9 +7,10 @@ readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/met
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import prange
 
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.kernels import batch_kernel
 
 FIELDS = (
     "peak_accel_mps2",
@@ -111,7 +112,7 @@ class RunMetrics:
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
-        _record_detection(t_s, active, sensed, v2x_received, self.values)
+        _record_detection(self.params.size, t_s, active, sensed, v2x_received, self.values)
 
     def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
         """Every planner state transition, with its time."""
@@ -127,6 +128,7 @@ class RunMetrics:
     ) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""
         _record_step(
+            self.params.size,
             t_s,
             self.params.dt_s,
             active,
@@ -150,10 +152,10 @@ class RunMetrics:
         )
 
 
-@njit(cache=True)
+@batch_kernel
 def _record_detection(t, active, sensed, received, values):  # pragma: no cover (compiled)
     B, K = sensed.shape
-    for b in range(B):
+    for b in prange(B):
         if not active[b]:
             continue
         for k in range(K):
@@ -163,7 +165,7 @@ def _record_detection(t, active, sensed, received, values):  # pragma: no cover 
                 values[FIRST_V2X, b] = t
 
 
-@njit(cache=True)
+@batch_kernel
 def _record_step(
     t,
     dt,
@@ -187,7 +189,7 @@ def _record_step(
     collided,
 ):  # pragma: no cover (compiled)
     B, K = clearance.shape
-    for b in range(B):
+    for b in prange(B):
         if not active[b]:
             m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
             continue

@@ -14,10 +14,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
 
 from vrusim.sim.contact import _lifted, to_local
+from vrusim.sim.kernels import batch_kernel
 
 __all__ = ["time_to_collision", "ttc_local"]
 
@@ -113,12 +114,12 @@ def time_to_collision(
     return _ttc_many(*flat, float(horizon)).reshape(shape)
 
 
-@njit(cache=True)
+@batch_kernel
 def ttc_batch(cx, cy, hx, hy, hl, hw, evx, evy, qx, qy, r, vx, vy):  # pragma: no cover (compiled)
     """Engine fast path: rectangles [B], circles [B, K] -> TTC [B, K] s (no horizon)."""
     B, K = qx.shape
     out = np.empty((B, K))
-    for b in range(B):
+    for b in prange(B):
         for k in range(K):
             px, py = to_local(cx[b], cy[b], hx[b], hy[b], qx[b, k], qy[b, k])
             wx, wy = to_local(evx[b], evy[b], hx[b], hy[b], vx[b, k], vy[b, k])

@@ -50,40 +50,42 @@ def update_track(t, detected, estimate, b, k, memory_s, track):  # pragma: no co
 
 
 @njit(cache=True, inline="always")
-def _positive_roots(a, b, c, out, count):  # pragma: no cover (compiled)
-    """Append the positive roots of a t^2 + b t + c = 0 to `out` (a may be 0); return the new count."""
+def _positive_roots(a, b, c):  # pragma: no cover (compiled)
+    """The positive roots of a t^2 + b t + c = 0 (a may be 0), smaller first; inf where there is none."""
+    lo = hi = np.inf
     if a == 0.0:
         if b != 0.0 and -c / b > 0.0:
-            out[count] = -c / b
-            count += 1
-        return count
+            lo = -c / b
+        return lo, hi
     disc = b * b - 4.0 * a * c
     if disc < 0.0:
-        return count
+        return lo, hi
     root = math.sqrt(disc)
-    for t in ((-b - root) / (2.0 * a), (-b + root) / (2.0 * a)):
-        if t > 0.0:
-            out[count] = t
-            count += 1
-    return count
+    r1, r2 = (-b - root) / (2.0 * a), (-b + root) / (2.0 * a)
+    r1, r2 = min(r1, r2), max(r1, r2)
+    if r1 > 0.0:
+        lo, hi = r1, r2
+    elif r2 > 0.0:
+        lo = r2
+    return lo, hi
 
 
 @njit(cache=True, inline="always")
 def corridor_window(lateral, cross_speed, cross_accel, half):  # pragma: no cover (compiled)
     """First time window (s from now) in which |e(t)| <= half, e(t) = lateral + cross_speed t + cross_accel t^2/2.
 
-    Returns (t_in, t_out): t_in = -inf when inside now; (inf, -inf) when never inside.
+    Returns (t_in, t_out): t_in = -inf when inside now; (inf, -inf) when never inside. The window's ends are
+    the first two boundary crossings after now (allocation-free merge of the roots of e(t) = +-half).
     """
-    roots = np.empty(4)
-    count = _positive_roots(0.5 * cross_accel, cross_speed, lateral - half, roots, 0)
-    count = _positive_roots(0.5 * cross_accel, cross_speed, lateral + half, roots, count)
-    crossings = np.sort(roots[:count])
-    inside = abs(lateral) <= half
-    if inside:
-        return -np.inf, crossings[0] if count > 0 else np.inf
-    if count == 0:
+    a1, b1 = _positive_roots(0.5 * cross_accel, cross_speed, lateral - half)
+    a2, b2 = _positive_roots(0.5 * cross_accel, cross_speed, lateral + half)
+    first = min(a1, a2)
+    second = min(max(a1, a2), b1, b2)
+    if abs(lateral) <= half:
+        return -np.inf, first
+    if first == np.inf:
         return np.inf, -np.inf
-    return crossings[0], crossings[1] if count > 1 else np.inf
+    return first, second
 
 
 @njit(cache=True, inline="always")

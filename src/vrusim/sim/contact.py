@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 from numpy.typing import ArrayLike, NDArray
+
+from vrusim.sim.kernels import batch_kernel
 
 __all__ = [
     "IMPACT_SIDE_NAMES",
@@ -180,12 +182,12 @@ def lateral_impact_fraction(outline_y: ArrayLike, half_width: ArrayLike) -> Floa
     return np.clip(frac, 0.0, 1.0)
 
 
-@njit(cache=True)
+@batch_kernel
 def clearance_batch(cx, cy, hx, hy, hl, hw, px, py, r):  # pragma: no cover (compiled)
     """Engine fast path: rectangles [B], circles [B, K] -> (clearance, outline x, outline y) [B, K]."""
     B, K = px.shape
     out = np.empty((3, B, K))
-    for b in range(B):
+    for b in prange(B):
         for k in range(K):
             lx, ly = to_local(cx[b], cy[b], hx[b], hy[b], px[b, k], py[b, k])
             out[0, b, k], out[1, b, k], out[2, b, k] = clearance_local(lx, ly, hl[b], hw[b], r[b, k])

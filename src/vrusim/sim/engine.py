@@ -9,7 +9,7 @@ its duration; the loop ends when every variant has stopped.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -38,7 +38,6 @@ class BatchRun:
     mode_names: tuple[str, ...]
     trace: dict[str, np.ndarray] | None = None
     steps: int = 0
-    extras: dict = field(default_factory=dict)
 
 
 def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
@@ -110,6 +109,7 @@ def simulate(
 
         centre_x, centre_y = ego.centre_x_m, ego.centre_y_m
         clearance, outline_x, outline_y = clearance_batch(
+            params.size,
             centre_x,
             centre_y,
             ego.heading_x,
@@ -122,6 +122,7 @@ def simulate(
         )
         ego_vx, ego_vy = ego.speed_mps * ego.heading_x, ego.speed_mps * ego.heading_y
         ttc = ttc_batch(
+            params.size,
             centre_x,
             centre_y,
             ego.heading_x,
@@ -153,7 +154,11 @@ def simulate(
 
 
 class _TraceRecorder:
-    """Full time series for plots and trace files (only when asked: memory O(B x steps))."""
+    """Full time series for plots and trace files (only when asked: memory O(B x steps)).
+
+    Row i holds the state at t_s[i] = (i + 1) dt, and the detections, planner mode and command decided at
+    the start of that step (time t_s[i] - dt).
+    """
 
     def __init__(self) -> None:
         self.rows: dict[str, list[np.ndarray]] = {}

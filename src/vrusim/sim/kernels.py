@@ -6,6 +6,7 @@ bit-identical results. Threads only pay off for large batches (starting them cos
 
 from __future__ import annotations
 
+import types
 from collections.abc import Callable
 
 from numba import njit
@@ -19,7 +20,8 @@ class BatchKernel:
 
     def __init__(self, function: Callable):
         self.serial = njit(cache=True)(function)
-        self.parallel = njit(cache=True, parallel=True)(function)
+        # a renamed copy, so that the on-disk caches of the two versions do not collide
+        self.parallel = njit(cache=True, parallel=True)(_renamed(function, "_threaded"))
         self.__doc__ = function.__doc__
 
     def __call__(self, size: int, *args):
@@ -30,3 +32,13 @@ class BatchKernel:
 def batch_kernel(function: Callable) -> BatchKernel:
     """Decorator: compile `function` (which loops over variants with `prange`) as a `BatchKernel`."""
     return BatchKernel(function)
+
+
+def _renamed(function: Callable, suffix: str) -> Callable:
+    """A copy of `function` whose name (and so numba's cache file) carries `suffix`."""
+    clone = types.FunctionType(
+        function.__code__, function.__globals__, function.__name__ + suffix, function.__defaults__, function.__closure__
+    )
+    clone.__qualname__ = function.__qualname__ + suffix
+    clone.__module__ = function.__module__
+    return clone

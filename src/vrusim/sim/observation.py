@@ -5,9 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import prange
 
 from vrusim.scenario.paths import PathTable
+from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.v2x import V2xMessages
 
 SOURCE_SENSOR = 1
@@ -84,14 +85,14 @@ def fuse(sensed: np.ndarray, truth: np.ndarray, v2x: V2xMessages) -> tuple[np.nd
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
     estimate = np.empty((7, *shape))
-    _fuse(sensed, truth, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
+    _fuse(shape[0], sensed, truth, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
     return detected, source, estimate
 
 
-@njit(cache=True)
+@batch_kernel
 def _fuse(sensed, truth, received, message, age, detected, source, out):  # pragma: no cover (compiled)
     B, K = sensed.shape
-    for b in range(B):
+    for b in prange(B):
         for k in range(K):
             detected[b, k] = sensed[b, k] or received[b, k]
             source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)

@@ -9,7 +9,9 @@ sector is at most its radius. The sensor is ideal: a perceived VRU's true positi
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
+
+from vrusim.sim.kernels import batch_kernel
 
 
 @njit(cache=True, inline="always")
@@ -38,12 +40,12 @@ def _distances(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, px, py):  # 
     return out
 
 
-@njit(cache=True)
+@batch_kernel
 def _perceived(
     apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out
 ):  # pragma: no cover (compiled)
     B, K = px.shape
-    for b in range(B):
+    for b in prange(B):
         for k in range(K):
             out[b, k] = (
                 enabled[b]
@@ -64,6 +66,7 @@ def sense(params, front_x: np.ndarray, front_y: np.ndarray, ego, vrus) -> np.nda
     """Which VRUs [B, K] each ego's sensor perceives now (engine fast path of `perceived`)."""
     out = np.empty(vrus.x_m.shape, dtype=bool)
     _perceived(
+        params.size,
         front_x,
         front_y,
         ego.heading_x,

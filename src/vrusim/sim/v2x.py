@@ -12,9 +12,10 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from numba import njit
+from numba import prange
 
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.kernels import batch_kernel
 
 
 @dataclass
@@ -53,6 +54,7 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessa
     """
     received = np.empty(vru_kinematics.shape[1:], dtype=bool)
     _coverage(
+        params.size,
         params.v2x_enabled,
         params.rsu_x_m,
         params.rsu_y_m,
@@ -68,12 +70,12 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessa
     return V2xMessages(received, vru_kinematics, np.zeros(received.shape))
 
 
-@njit(cache=True)
+@batch_kernel
 def _coverage(
     enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received
 ):  # pragma: no cover (compiled)
     B, K = vru_x.shape
-    for b in range(B):
+    for b in prange(B):
         ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
         in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
         for k in range(K):

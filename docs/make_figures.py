@@ -1,0 +1,88 @@
+"""Draw the README figure: ego speed and planner state over time in the paper's six runs.
+
+Run: pip install -e ".[docs]" && python docs/make_figures.py   (writes docs/img/paper_timelines.png)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from vrusim.catalog.paper import CASES, paper_scenarios
+from vrusim.metrics.summary import summary_rows
+from vrusim.sim.engine import simulate
+
+OUT = Path(__file__).parent / "img" / "paper_timelines.png"
+MODE_COLOURS = {"cruise": "#e8f1e8", "pre_slow": "#fff2c6", "emergency_brake": "#f8d0d0", "follow": "#dbe7f7"}
+
+
+def main() -> None:
+    runs = paper_scenarios()
+    run = simulate([scenario for _, _, scenario in runs], trace=True)
+    rows = summary_rows(run)
+    trace = run.trace
+    fig, axes = plt.subplots(2, len(CASES), figsize=(13, 5.2), sharex="col", constrained_layout=True)
+    for b, ((case, v2x, _), row) in enumerate(zip(runs, rows, strict=True)):
+        ax = axes[int(v2x), [c.key for c in CASES].index(case.key)]
+        end = row["end_time_s"]
+        t = trace["t_s"]
+        keep = t <= end + 1e-9
+        mode = trace["planner_mode"][keep, b]
+        for start, stop, value in _spans(t[keep], mode):
+            ax.axvspan(start, stop, color=MODE_COLOURS[run.mode_names[value]], lw=0)
+        ax.plot(t[keep], trace["ego_speed_mps"][keep, b], color="black", lw=1.6, label="ego speed")
+        ax.plot(t[keep], trace["vru_speed_mps"][keep, b, 0], color="tab:blue", lw=1.2, ls="--", label="VRU speed")
+        for key, colour, label in (
+            ("first_sensor_detection_s", "tab:green", "sensor"),
+            ("first_v2x_message_s", "tab:purple", "V2X"),
+            ("contact_time_s", "tab:red", "impact"),
+        ):
+            if row[key] is not None:
+                ax.axvline(row[key], color=colour, lw=1.2)
+                ax.text(
+                    row[key],
+                    ax.get_ylim()[1] * 0.02 + 0.3,
+                    f" {label} {row[key]:.2f} s",
+                    color=colour,
+                    fontsize=7,
+                    rotation=90,
+                    va="bottom",
+                )
+        scores = f"S/E/C {row['safety']:.2f}/{row['efficiency']:.2f}/{row['comfort']:.2f}"
+        ax.set_title(f"{case.title} — V2X {'on' if v2x else 'off'}\n{row['outcome']}, {scores}", fontsize=9)
+        ax.set_xlim(0, max(end, 1.0))
+        ax.set_ylim(bottom=0)
+        ax.grid(alpha=0.3)
+        if v2x:
+            ax.set_xlabel("time (s)")
+        if case.key == CASES[0].key:
+            ax.set_ylabel("speed (m/s)")
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in MODE_COLOURS.values()]
+    fig.legend(
+        handles + axes[0, 0].get_lines()[:2],
+        [*MODE_COLOURS, "ego speed", "VRU speed"],
+        loc="outside lower center",
+        ncol=6,
+        fontsize=8,
+    )
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(OUT, dpi=110)
+    print(f"wrote {OUT}")
+
+
+def _spans(t: np.ndarray, mode: np.ndarray):
+    """(start, stop, mode) of each run of equal planner modes."""
+    change = np.flatnonzero(np.diff(mode)) + 1
+    starts = np.concatenate([[0], change])
+    stops = np.concatenate([change, [len(mode)]])
+    for a, b in zip(starts, stops, strict=True):
+        yield t[a] - (t[1] - t[0]), t[b - 1], int(mode[a])
+
+
+if __name__ == "__main__":
+    main()
