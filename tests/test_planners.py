@@ -91,3 +91,32 @@ def test_bad_fsm_parameter_names_the_field():
         simulate([scenario_from_mapping(_crossing(pre_slow_decel_mps2=-1))])
     with pytest.raises(UserInputError, match=r"planner\.params\.brake_hard.*unknown field"):
         simulate([scenario_from_mapping(_crossing(brake_hard=True))])
+
+
+class BrakeOnConflict:
+    """A NumPy planner built on the shared ConflictTracker: brake hard while any VRU conflicts with the path."""
+
+    mode_names = ("drive", "brake")
+
+    def reset(self, params):
+        from vrusim.planners.conflict import ConflictTracker
+
+        ones = np.ones(params.size)
+        self.tracker = ConflictTracker(horizon_s=5.0 * ones, margin_m=0.25 * ones, memory_s=1.0 * ones)
+        self.mode = np.zeros(params.size, dtype=np.int8)
+
+    def act(self, observation):
+        facts = self.tracker.analyse(observation)
+        self.mode = facts.conflict.any(axis=1).astype(np.int8)
+        return np.where(self.mode == 1, -6.0, 0.0)
+
+
+def test_conflict_tracker_flags_the_crossing_pedestrian_from_the_first_v2x_message():
+    from vrusim.catalog.paper import scenario_dir
+    from vrusim.scenario.loading import load_scenario
+
+    scenario = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").with_v2x(True)
+    run = simulate([scenario], planner=BrakeOnConflict())
+    first_brake = run.metrics.first_mode_s[0, 1]
+    assert first_brake == pytest.approx(run.metrics.first_v2x_s[0])
+    assert not run.metrics.collided[0]

@@ -1,7 +1,8 @@
 """The batch engine: advances B variants in lock-step with a fixed time step.
 
-Each step, from the state at time t: VRU triggers → sensing (sector) → V2X (RSU → channel) → fused observation →
-planner → VRU and ego motion to t + dt → contact check and streaming metrics. A variant stops contributing to
+Each step, from the state at time t: sensing (sector) → V2X (RSU → channel) → fused observation → planner →
+VRU triggers (judged on the ego state at t) and VRU motion to t + dt → ego motion to t + dt → contact check and
+streaming metrics. A variant stops contributing to
 its metrics when it collides (if `stop_on_collision`), completes its route (if `stop_at_route_end`) or reaches
 its duration; the loop ends when every variant has stopped.
 """

@@ -3,7 +3,8 @@
 The field of view is a circular sector with its apex at the centre of the front bumper, centred on the ego
 heading, of radius `range_m` and full opening angle `fov_deg`. A VRU counts as perceived in a step when any
 part of its footprint circle lies inside the sector, i.e. when the distance from its centre to the (filled)
-sector is at most its radius. The sensor is ideal: a perceived VRU's true position and velocity are reported.
+sector is at most its radius. The sensor is ideal: a perceived VRU's true position, velocity and acceleration
+are reported.
 """
 
 from __future__ import annotations
