@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from vrusim.catalog.paper import CAPTION_EVENTS, SCORE_TOLERANCE, TABLE_II, TIME_TOLERANCE_S, reproduce
@@ -95,3 +97,19 @@ def test_results_contain_no_nan(reproduction):
                 walk(item)
 
     walk(reproduction)
+
+
+@pytest.mark.parametrize(
+    "path", sorted(Path(__file__).resolve().parents[1].glob("scenarios/**/*.yaml")), ids=lambda p: p.stem
+)
+@pytest.mark.parametrize("v2x", [False, True])
+def test_every_shipped_scenario_runs_cleanly(path, v2x):
+    """Every YAML file users can copy loads, runs both ways and yields a complete, finite summary."""
+    from vrusim.metrics.summary import summary_rows
+    from vrusim.scenario.loading import load_scenario
+    from vrusim.sim.engine import simulate
+
+    row = summary_rows(simulate([load_scenario(path).with_v2x(v2x)]))[0]
+    assert row["outcome"] in ("collision", "avoided")
+    assert all(0.0 <= row[name] <= 1.0 for name in ("safety", "efficiency", "comfort"))
+    assert row["end_time_s"] > 0.0
