@@ -40,6 +40,8 @@ FIELDS = (
     "prev_actuator",
     "prev_clearance",
     "prev_speed",
+    "prev_ttc_s",
+    "prev_ttc_vru",
 )
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
@@ -71,6 +73,8 @@ _I = {name: index for index, name in enumerate(FIELDS)}
     PREV_ACT,
     PREV_CLR,
     PREV_V,
+    PREV_TTC,
+    PREV_TTC_VRU,
 ) = range(len(FIELDS))
 
 
@@ -95,7 +99,7 @@ class RunMetrics:
             FIRST_V2X,
         )
         values[list(nan_rows)] = np.nan
-        values[[MIN_CLR, MIN_TTC, PREV_CLR]] = np.inf
+        values[[MIN_CLR, MIN_TTC, PREV_CLR, PREV_TTC]] = np.inf
         values[IMPACT_VRU] = -1
         values[FINAL_V] = params.start_speed_mps
         values[PREV_V] = params.start_speed_mps
@@ -202,21 +206,31 @@ def _record_step(
         m[SUM_A2, b] += a * a * dt
         m[SUM_J2, b] += jerk * jerk * dt
         m[ELAPSED, b] += dt
-        closest, nearest, soonest = np.inf, 0, np.inf
+        closest, nearest, soonest, soonest_k = np.inf, 0, np.inf, 0
         for k in range(K):
             if clearance[b, k] < closest:
                 closest, nearest = clearance[b, k], k
-            soonest = min(soonest, ttc[b, k])
+            if ttc[b, k] < soonest:
+                soonest, soonest_k = ttc[b, k], k
         if closest < m[MIN_CLR, b]:
             m[MIN_CLR, b], m[MIN_CLR_T, b] = closest, t
         if soonest < m[MIN_TTC, b]:
             m[MIN_TTC, b], m[MIN_TTC_T, b] = soonest, t
         if np.isnan(m[TRAVEL, b]) and station[b] >= route_length[b]:
-            m[TRAVEL, b] = t
-        if not collided[b] and closest <= 0.0:
-            # first contact: time and ego speed interpolated where the clearance crossed zero in this step
-            before = m[PREV_CLR, b]
-            frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
+            # interpolated inside the step, so a free-flow trip takes exactly length / speed whatever dt
+            before = m[FINAL_S, b]
+            frac = (route_length[b] - before) / (station[b] - before) if station[b] > before else 1.0
+            m[TRAVEL, b] = t - dt + min(max(frac, 0.0), 1.0) * dt
+        # Swept test: the bodies also touched inside this step if, at its start, the time-to-collision under
+        # constant velocities was at most dt (a fast VRU can pass through the ego between two step ends).
+        swept = m[PREV_TTC, b] <= dt
+        if not collided[b] and (closest <= 0.0 or swept):
+            if swept:  # contact time from the TTC at the step start
+                frac = m[PREV_TTC, b] / dt
+                nearest = int(m[PREV_TTC_VRU, b])
+            else:  # time and ego speed interpolated where the clearance crossed zero in this step
+                before = m[PREV_CLR, b]
+                frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
             frac = min(max(frac, 0.0), 1.0)
             collided[b] = True
             m[CONTACT_T, b] = t - dt + frac * dt
@@ -228,5 +242,6 @@ def _record_step(
             m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
             m[IMPACT_VRU, b] = nearest
         m[PREV_CLR, b] = closest
+        m[PREV_TTC, b], m[PREV_TTC_VRU, b] = soonest, soonest_k
         m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
         m[END_T, b], m[FINAL_V, b], m[FINAL_S, b] = t, speed[b], station[b]

@@ -30,6 +30,7 @@ def score_arrays(run: BatchRun) -> dict[str, np.ndarray]:
         p.cruise_speed_mps > 0, (p.route_length_m - station) / np.maximum(p.cruise_speed_mps, 1e-9), 0.0
     )
     travel = np.where(np.isnan(m.travel_time_s), m.end_time_s + remaining, m.travel_time_s)
+    travel = np.where(p.cruise_speed_mps > 0, travel, 0.0)  # an ego told to stand still loses no time
     out = {
         "rms_accel_mps2": rms_accel,
         "rms_jerk_mps3": rms_jerk,
@@ -62,14 +63,13 @@ def summary_rows(run: BatchRun) -> list[dict]:
     derived = score_arrays(run)
     side = impact_side(m.impact_local_x_m, m.impact_local_y_m, p.half_length_m, p.half_width_m)
     fraction = lateral_impact_fraction(m.impact_local_y_m, p.half_width_m)
+    per_variant: dict[int, list[dict]] = {}
+    for t, v, a, c in m.transitions:
+        per_variant.setdefault(v, []).append({"t_s": round(t, 6), "from": run.mode_names[a], "to": run.mode_names[c]})
     rows = []
     for b, scenario in enumerate(p.scenarios):
         collided = bool(m.collided[b])
-        transitions = [
-            {"t_s": round(t, 6), "from": run.mode_names[a], "to": run.mode_names[c]}
-            for t, v, a, c in m.transitions
-            if v == b
-        ]
+        transitions = per_variant.get(b, [])
         first_mode = {name: _value(m.first_mode_s[b, i]) for i, name in enumerate(run.mode_names) if i > 0}
         rows.append(
             {

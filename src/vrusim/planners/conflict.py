@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from vrusim.scenario.paths import project_point
+from vrusim.scenario.paths import nearest_station, project_point
 from vrusim.sim.observation import Observation
 
 LEAD_SPEED_MPS = 0.5
@@ -37,7 +37,7 @@ def update_track(t, detected, estimate, b, k, memory_s, track):  # pragma: no co
     """Refresh one track from `estimate[:, b, k]`; return (known, x, y, vx, vy, ax, ay) predicted to now.
 
     A lost track is predicted at constant velocity (its acceleration is no longer trusted) until it is older
-    than `memory_s`.
+    than `memory_s`. A never-seen track has seen time -inf.
     """
     if detected:
         track[0] = t
@@ -45,8 +45,20 @@ def update_track(t, detected, estimate, b, k, memory_s, track):  # pragma: no co
             track[1 + row] = estimate[row, b, k]
         return True, track[1], track[2], track[3], track[4], track[5], track[6]
     age = t - track[0]
-    known = age <= memory_s
-    return known, track[1] + track[3] * age, track[2] + track[4] * age, track[3], track[4], 0.0, 0.0
+    if not age <= memory_s:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return True, track[1] + track[3] * age, track[2] + track[4] * age, track[3], track[4], 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def warm_station(path, offset, was_known, x, y, station):  # pragma: no cover (compiled)
+    """Start station for projecting a track: its previous projection, or a global search if it is new.
+
+    A track is new when it was unknown before this step (never seen, or lost for longer than the memory):
+    the VRU may have moved anywhere meanwhile, and a local Newton step could settle on the wrong branch of a
+    curved route.
+    """
+    return station if was_known else nearest_station(path, offset, x, y)
 
 
 @njit(cache=True, inline="always")
@@ -177,13 +189,11 @@ class ConflictTracker:
 
 
 def new_tracks(obs: Observation) -> tuple[np.ndarray, np.ndarray]:
-    """Empty tracks [B, K, TRACK_SIZE] and cold-start stations of every VRU on the ego route."""
+    """Empty tracks [B, K, TRACK_SIZE] and their route stations (set when a track is first acquired)."""
     shape = obs.vru_x_m.shape
     tracks = np.zeros((*shape, TRACK_SIZE))
     tracks[..., 0] = -np.inf
-    offsets = np.broadcast_to(obs.route_offset[:, None], shape)
-    station = obs.routes.project_global(offsets // obs.routes.width, obs.vru_x_m, obs.vru_y_m) * 1.0
-    return tracks, station
+    return tracks, np.zeros(shape)
 
 
 @njit(cache=True)
@@ -206,11 +216,17 @@ def _analyse_batch(
     B, K = detected.shape
     for b in range(B):
         for k in range(K):
+            was_known = t - tracks[b, k, 0] <= memory[b]
             known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, memory[b], tracks[b, k])
+            if not known:
+                out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k] = 0.0, 0.0, np.inf, 0.0
+                out[4, b, k], out[5, b, k] = np.inf, -np.inf
+                continue
+            guess = warm_station(path, offsets[b], was_known, x, y, station[b, k])
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
                 path,
                 offsets[b],
-                station[b, k],
+                guess,
                 front_station[b],
                 half_width[b],
                 radius[b, k],
@@ -223,8 +239,7 @@ def _analyse_batch(
                 ax,
                 ay,
             )
-            if known:
-                station[b, k] = s
-            out[0, b, k] = 1.0 if (known and conflict) else 0.0
-            out[1, b, k] = 1.0 if (known and lead) else 0.0
+            station[b, k] = s
+            out[0, b, k] = 1.0 if conflict else 0.0
+            out[1, b, k] = 1.0 if lead else 0.0
             out[2, b, k], out[3, b, k], out[4, b, k], out[5, b, k] = distance, along, t_in, t_out

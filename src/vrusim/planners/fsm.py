@@ -28,7 +28,7 @@ from numba import prange
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
-from vrusim.planners.conflict import analyse_vru, new_tracks, update_track
+from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.kernels import batch_kernel
@@ -40,7 +40,7 @@ CRUISE, PRE_SLOW, EMERGENCY_BRAKE, FOLLOW = 0, 1, 2, 3
 class FsmParams(BaseModel):
     """Parameters of the FSM planner (YAML `planner.params`)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     headway_s: float = Field(2.0, gt=0, description="D_safe = headway_s * v (two-second rule)")
     pre_slow_decel_mps2: float = Field(2.0, gt=0)
@@ -177,13 +177,15 @@ def _fsm_step(
         braking = mode[b] == PRE_SLOW or mode[b] == EMERGENCY_BRAKE
         gap, lead_speed, is_lead = np.inf, 0.0, False
         for k in range(K):
+            was_known = t - tracks[b, k, 0] <= p[b, _MEMORY]
             known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
             if not known:
                 continue
+            guess = warm_station(path, offsets[b], was_known, x, y, station[b, k])
             s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
                 path,
                 offsets[b],
-                station[b, k],
+                guess,
                 front_station[b],
                 half_width[b],
                 radius[b, k],

@@ -22,9 +22,14 @@ def make_planner(name: str) -> Planner:
     module_name, _, class_name = name.partition(":")
     try:
         cls = getattr(importlib.import_module(module_name), class_name)
-    except (ImportError, AttributeError) as error:
-        raise UserInputError(f"planner.name: cannot import {name!r} ({error})") from None
-    planner = cls()
+    except Exception as error:  # any failure to import a user's module is a bad name or a broken plug-in
+        raise UserInputError(f"planner.name: cannot import {name!r} ({error.__class__.__name__}: {error})") from None
+    if not isinstance(cls, type):
+        raise UserInputError(f"planner.name: {name!r} is not a class")
+    try:
+        planner = cls()
+    except Exception as error:
+        raise UserInputError(f"planner.name: cannot create {name!r} without arguments ({error})") from None
     if not isinstance(planner, Planner):
         raise UserInputError(f"planner.name: {name!r} has no reset(params) and act(observation) methods")
     return planner

@@ -216,8 +216,8 @@ class PathTable:
     def project_global(self, rows: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
         """Station of the nearest sample to each point (a cold start for `project`); cost O(N) per point."""
         shape = np.shape(px)
-        nearest = _nearest_sample(self._x, self._y, self.width, np.ravel(rows), np.ravel(px), np.ravel(py))
-        return (nearest * self.spacing_m).reshape(shape)
+        offsets = np.ravel(rows) * self.width
+        return _nearest_many(self.arrays, offsets, np.ravel(px) * 1.0, np.ravel(py) * 1.0).reshape(shape)
 
 
 @njit(cache=True, inline="always")
@@ -246,7 +246,7 @@ def project_point(path, offset, station, px, py, iterations):  # pragma: no cove
     """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
     for _ in range(iterations):
         x, y, tx, ty, _k = locate_point(path, offset, station)
-        station = station + (px - x) * tx + (py - y) * ty
+        station = max(station + (px - x) * tx + (py - y) * ty, 0.0)
     x, y, tx, ty, k = locate_point(path, offset, station)
     return station, x, y, tx, ty, k
 
@@ -271,16 +271,34 @@ def _project_many(path, offsets, stations, px, py, iterations):  # pragma: no co
     return out[0], out[1], out[2], out[3], out[4], out[5]
 
 
+@njit(cache=True, inline="always")
+def nearest_station(path, offset, px, py):  # pragma: no cover (compiled)
+    """Approximate foot-point station of (px, py) on the path and its straight extension past the end (O(N)).
+
+    Candidates: the nearest of the path's own samples, and the foot point on the extension after its last
+    sample; the nearest wins. Nothing moves backwards along a path, so the part before its start is never a
+    candidate. Refine with `project_point`.
+    """
+    xs, ys, tangents, _, counts, inv_spacing, width = path
+    last = counts[offset // width] - 1
+    best, best_s = np.inf, 0.0
+    for j in range(last + 1):
+        dx, dy = xs[offset + j] - px, ys[offset + j] - py
+        d = dx * dx + dy * dy
+        if d < best:
+            best, best_s = d, j / inv_spacing
+    tx, ty = tangents[offset + last - 1, 0], tangents[offset + last - 1, 1]
+    dx, dy = px - xs[offset + last], py - ys[offset + last]
+    along = dx * tx + dy * ty
+    across = dx * ty - dy * tx
+    if along > 0.0 and across * across < best:
+        best_s = last / inv_spacing + along
+    return best_s
+
+
 @njit(cache=True)
-def _nearest_sample(xs, ys, width, rows, px, py):  # pragma: no cover (compiled)
-    out = np.empty(px.shape[0], dtype=np.int64)
+def _nearest_many(path, offsets, px, py):  # pragma: no cover (compiled)
+    out = np.empty(px.shape[0])
     for i in range(px.shape[0]):
-        base = rows[i] * width
-        best, best_j = np.inf, 0
-        for j in range(width):
-            dx, dy = xs[base + j] - px[i], ys[base + j] - py[i]
-            d = dx * dx + dy * dy
-            if d < best:
-                best, best_j = d, j
-        out[i] = best_j
+        out[i] = nearest_station(path, offsets[i], px[i], py[i])
     return out

@@ -15,7 +15,11 @@ from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 
 class _Frozen(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False)
+
+
+MAX_STEPS = 10_000_000
+"""Most time steps one run may take."""
 
 
 class Point(_Frozen):
@@ -99,6 +103,12 @@ class Ego(_Frozen):
     def _geometry(self) -> Self:
         if self.wheelbase_m + self.rear_overhang_m > self.length_m:
             raise ValueError("wheelbase_m + rear_overhang_m must not exceed length_m")
+        min_radius = self.wheelbase_m / math.tan(math.radians(self.max_steer_deg))
+        if self.route.kind != "straight" and self.route.radius_m < min_radius:
+            raise ValueError(
+                f"route.radius_m {self.route.radius_m} m is tighter than the ego can turn "
+                f"(wheelbase_m / tan(max_steer_deg) = {min_radius:.2f} m)"
+            )
         return self
 
     @property
@@ -211,6 +221,8 @@ class SimSettings(_Frozen):
     def _enough_steps(self) -> Self:
         if self.duration_s < self.dt_s:
             raise ValueError("duration_s must be at least dt_s")
+        if self.duration_s / self.dt_s > MAX_STEPS:
+            raise ValueError(f"duration_s / dt_s must be at most {MAX_STEPS:,} steps")
         return self
 
 

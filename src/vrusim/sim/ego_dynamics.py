@@ -13,6 +13,8 @@ kappa * distance; position follows the mid-step heading. No trigonometric calls 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
@@ -24,10 +26,17 @@ from vrusim.sim.state import EgoState
 
 @njit(cache=True, inline="always")
 def rotate(hx, hy, angle):  # pragma: no cover (compiled)
-    """Rotate a unit vector by a small angle (rad): 5th-order Taylor sine / cosine, renormalised."""
-    a2 = angle * angle
-    c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0))
-    s = angle * (1.0 - a2 * ((1.0 / 6.0) - a2 * (1.0 / 120.0)))
+    """Rotate a unit vector by an angle (rad), renormalised.
+
+    Small angles (|angle| < 0.05 rad, every step of an ordinary run) use a 5th-order Taylor sine / cosine
+    (error < 1e-11); larger ones the exact functions.
+    """
+    if abs(angle) < 0.05:
+        a2 = angle * angle
+        c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0))
+        s = angle * (1.0 - a2 * ((1.0 / 6.0) - a2 * (1.0 / 120.0)))
+    else:
+        c, s = math.cos(angle), math.sin(angle)
     rx, ry = c * hx - s * hy, s * hx + c * hy
     inv = 1.0 / np.sqrt(rx * rx + ry * ry)
     return rx * inv, ry * inv

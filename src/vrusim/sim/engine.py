@@ -56,6 +56,7 @@ def simulate(
 ) -> BatchRun:
     """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace."""
     params = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    planner_name = params.scenarios[0].planner.name if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(params.scenarios)
     channel = channel if channel is not None else IdealChannel()
     planner.reset(params)
@@ -81,26 +82,19 @@ def simulate(
         observation = Observation(
             t,
             dt,
-            ego.x_m,
-            ego.y_m,
-            ego.heading_x,
-            ego.heading_y,
-            ego.speed_mps,
-            ego.accel_mps2,
-            ego.station_m,
-            params.cruise_speed_mps,
-            params.rear_to_front_m,
-            params.half_width_m,
+            *(_read_only(a) for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps)),
+            *(_read_only(a) for a in (ego.accel_mps2, ego.station_m, params.cruise_speed_mps)),
+            *(_read_only(a) for a in (params.rear_to_front_m, params.half_width_m)),
             params.routes,
-            params.route_offset,
+            _read_only(params.route_offset),
             detected,
             source,
             estimate,
-            params.vru_radius_m,
+            _read_only(params.vru_radius_m),
         )
         old_mode = getattr(planner, "mode", None)
         old_mode = None if old_mode is None else old_mode.copy()
-        command = np.asarray(planner.act(observation), dtype=float)
+        command = _checked_command(planner.act(observation), params.size, planner_name)
         if old_mode is not None:
             metrics.record_modes(t, active, old_mode, planner.mode)
         moving_before = ego.speed_mps > 0.0
@@ -152,6 +146,27 @@ def simulate(
         if not active.any():
             break
     return BatchRun(params, metrics, mode_names, recorder.finish() if recorder else None, step + 1)
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only view, so that a planner cannot change the simulation state it observes."""
+    view = array.view()
+    view.flags.writeable = False
+    return view
+
+
+def _checked_command(command, size: int, name: str) -> np.ndarray:
+    """The planner's acceleration command as a finite float array of shape [B], or one clear error."""
+    try:
+        array = np.asarray(command, dtype=float)
+    except (TypeError, ValueError):
+        array = np.full(0, np.nan)
+    if array.shape != (size,) or not np.isfinite(array).all():
+        raise UserInputError(
+            f"planner.name: planner {name!r} must return a finite acceleration per variant, shape ({size},); "
+            f"got shape {array.shape}" + ("" if array.shape != (size,) else " with NaN or infinite values")
+        )
+    return array
 
 
 class _TraceRecorder:
