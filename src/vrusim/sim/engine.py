@@ -68,6 +68,12 @@ def simulate(
     active = np.ones(params.size, dtype=bool)
     dt = params.dt_s
     recorder = _TraceRecorder() if trace else None
+    # read-only views of the state the planner observes (kernels update the arrays in place, views follow)
+    ego_view = [
+        _read_only(a)
+        for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
+    ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
+    route_offset, radius = _read_only(params.route_offset), _read_only(params.vru_radius_m)
     step = 0
     for step in range(params.n_steps):
         t = step * dt
@@ -79,19 +85,7 @@ def simulate(
         )
         detected, source, estimate = fuse(sensed, vrus.kinematics, messages)
         metrics.record_detection(t, active, sensed, messages.received)
-        observation = Observation(
-            t,
-            dt,
-            *(_read_only(a) for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps)),
-            *(_read_only(a) for a in (ego.accel_mps2, ego.station_m, params.cruise_speed_mps)),
-            *(_read_only(a) for a in (params.rear_to_front_m, params.half_width_m)),
-            params.routes,
-            _read_only(params.route_offset),
-            detected,
-            source,
-            estimate,
-            _read_only(params.vru_radius_m),
-        )
+        observation = Observation(t, dt, *ego_view, params.routes, route_offset, detected, source, estimate, radius)
         old_mode = getattr(planner, "mode", None)
         old_mode = None if old_mode is None else old_mode.copy()
         command = _checked_command(planner.act(observation), params.size, planner_name)
