@@ -163,3 +163,22 @@ def test_rotation_is_exact_for_small_and_large_angles(angle):
     x, y = rotate(0.6, 0.8, angle)
     assert x == pytest.approx(0.6 * math.cos(angle) - 0.8 * math.sin(angle), abs=1e-10)
     assert y == pytest.approx(0.6 * math.sin(angle) + 0.8 * math.cos(angle), abs=1e-10)
+
+
+def test_swept_contact_reports_the_side_that_was_hit(make_scenario):
+    """At a coarse step a fast VRU crossing from the right passes through the ego between two step ends: the
+    impact is still on the right side, and the minimum clearance records the contact."""
+    moto = {
+        "type": "motorcyclist",
+        "start": [31.0, -30.0],
+        "heading_deg": 90.0,
+        "radius_m": 0.3,
+        "top_speed_mps": 30.0,
+        "max_accel_mps2": 1000.0,
+        "trigger": {"at_time_s": 0.0},
+    }
+    scenario = make_scenario({"ego": {"cruise_speed_mps": 30.0}, "vrus": [moto], "sim": {"dt_s": 0.1}})
+    row = summary_rows(simulate([scenario]))[0]
+    assert row["outcome"] == "collision"
+    assert row["impact_side"] == "right"
+    assert row["min_clearance_m"] <= 0.0

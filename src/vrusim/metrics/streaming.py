@@ -10,6 +10,7 @@ import numpy as np
 from numba import prange
 
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.contact import clearance_local, to_local
 from vrusim.sim.kernels import batch_kernel
 
 FIELDS = (
@@ -127,10 +128,9 @@ class RunMetrics:
                 if np.isnan(self.first_mode_s[b, new_mode[b]]):
                     self.first_mode_s[b, new_mode[b]] = t_s
 
-    def record_step(
-        self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vru_vx, vru_vy
-    ) -> None:
+    def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""
+        p = self.params
         _record_step(
             self.params.size,
             t_s,
@@ -149,8 +149,12 @@ class RunMetrics:
             outline_x,
             outline_y,
             ttc,
-            vru_vx,
-            vru_vy,
+            vrus.kinematics,
+            ego.centre_x_m,
+            ego.centre_y_m,
+            p.half_length_m,
+            p.half_width_m,
+            p.vru_radius_m,
             self.values,
             self.collided,
         )
@@ -187,8 +191,12 @@ def _record_step(
     outline_x,
     outline_y,
     ttc,
-    vru_vx,
-    vru_vy,
+    vru,
+    centre_x,
+    centre_y,
+    half_length,
+    half_width,
+    radius,
     m,
     collided,
 ):  # pragma: no cover (compiled)
@@ -235,11 +243,19 @@ def _record_step(
             collided[b] = True
             m[CONTACT_T, b] = t - dt + frac * dt
             m[IMPACT_V, b] = m[PREV_V, b] + frac * (speed[b] - m[PREV_V, b])
-            rvx = speed[b] * hx[b] - vru_vx[b, nearest]
-            rvy = speed[b] * hy[b] - vru_vy[b, nearest]
+            rvx = speed[b] * hx[b] - vru[2, b, nearest]
+            rvy = speed[b] * hy[b] - vru[3, b, nearest]
             m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
             m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
-            m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
+            if swept:  # impact point where the bodies met: step-end positions moved back along the relative motion
+                back = (1.0 - frac) * dt
+                px = vru[0, b, nearest] + rvx * back
+                py = vru[1, b, nearest] + rvy * back
+                lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
+                _, m[IMPACT_X, b], m[IMPACT_Y, b] = clearance_local(lx, ly, half_length[b], half_width[b], 0.0)
+                m[MIN_CLR, b] = min(m[MIN_CLR, b], 0.0)
+            else:
+                m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
             m[IMPACT_VRU, b] = nearest
         m[PREV_CLR, b] = closest
         m[PREV_TTC, b], m[PREV_TTC_VRU, b] = soonest, soonest_k

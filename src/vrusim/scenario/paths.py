@@ -214,7 +214,7 @@ class PathTable:
         return tuple(a.reshape(shape) for a in out)
 
     def project_global(self, rows: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-        """Station of the nearest sample to each point (a cold start for `project`); cost O(N) per point."""
+        """Cold-start station of each point (see `nearest_station`), to be refined by `project`; O(N) per point."""
         shape = np.shape(px)
         offsets = np.ravel(rows) * self.width
         return _nearest_many(self.arrays, offsets, np.ravel(px) * 1.0, np.ravel(py) * 1.0).reshape(shape)

@@ -8,7 +8,8 @@ In the distance domain the error obeys e'' + k_psi e' + k_e e = 0 whatever the s
 Longitudinal: the planner's command is clipped to [-max_decel, max_accel], passed through a first-order lag
 (time constant `actuator_lag_s`) and a jerk limit. Position advances exactly for constant acceleration within
 a step, and the ego stops exactly where v reaches 0 (it never rolls backwards). Heading turns by
-kappa * distance; position follows the mid-step heading. No trigonometric calls (small-angle rotation).
+kappa * distance; position follows the mid-step heading (rotations: Taylor series for small angles, exact
+sine / cosine above 0.05 rad).
 """
 
 from __future__ import annotations

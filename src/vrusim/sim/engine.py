@@ -126,9 +126,7 @@ def simulate(
             vrus.vx_mps,
             vrus.vy_mps,
         )
-        metrics.record_step(
-            t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus.vx_mps, vrus.vy_mps
-        )
+        metrics.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus)
         if recorder is not None:
             recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
         active = (
