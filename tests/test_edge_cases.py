@@ -17,6 +17,17 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.ego_dynamics import rotate
 from vrusim.sim.engine import simulate
 
+FAST_MOTO = {
+    "type": "motorcyclist",
+    "start": [31.0, -30.0],
+    "heading_deg": 90.0,
+    "radius_m": 0.3,
+    "top_speed_mps": 30.0,
+    "max_accel_mps2": 1000.0,
+    "trigger": {"at_time_s": 0.0},
+}
+"""A 30 m/s motorcyclist crossing 31 m ahead of the ego's start: it meets a 30 m/s ego after about 1 s."""
+
 
 def _u_turn(make_scenario, vrus, **sim):
     return make_scenario(
@@ -128,16 +139,7 @@ def test_broken_plugin_names_are_user_errors(name):
 def test_fast_crossing_collides_whatever_the_time_step(make_scenario, dt):
     """A 30 m/s motorcyclist crossing a 30 m/s ego is caught by the swept test even when it would pass through
     the ego between two step ends."""
-    moto = {
-        "type": "motorcyclist",
-        "start": [31.0, -30.0],
-        "heading_deg": 90.0,
-        "radius_m": 0.3,
-        "top_speed_mps": 30.0,
-        "max_accel_mps2": 1000.0,
-        "trigger": {"at_time_s": 0.0},
-    }
-    scenario = make_scenario({"ego": {"cruise_speed_mps": 30.0}, "vrus": [moto], "sim": {"dt_s": dt}})
+    scenario = make_scenario({"ego": {"cruise_speed_mps": 30.0}, "vrus": [FAST_MOTO], "sim": {"dt_s": dt}})
     row = summary_rows(simulate([scenario]))[0]
     assert row["outcome"] == "collision"
     # the moto's edge reaches the ego's right side after (30 - 0.9 - 0.3) m at 30 m/s, 0.015 s lost accelerating
@@ -168,16 +170,7 @@ def test_rotation_is_exact_for_small_and_large_angles(angle):
 def test_swept_contact_reports_the_side_that_was_hit(make_scenario):
     """At a coarse step a fast VRU crossing from the right passes through the ego between two step ends: the
     impact is still on the right side, and the minimum clearance records the contact."""
-    moto = {
-        "type": "motorcyclist",
-        "start": [31.0, -30.0],
-        "heading_deg": 90.0,
-        "radius_m": 0.3,
-        "top_speed_mps": 30.0,
-        "max_accel_mps2": 1000.0,
-        "trigger": {"at_time_s": 0.0},
-    }
-    scenario = make_scenario({"ego": {"cruise_speed_mps": 30.0}, "vrus": [moto], "sim": {"dt_s": 0.1}})
+    scenario = make_scenario({"ego": {"cruise_speed_mps": 30.0}, "vrus": [FAST_MOTO], "sim": {"dt_s": 0.1}})
     row = summary_rows(simulate([scenario]))[0]
     assert row["outcome"] == "collision"
     assert row["impact_side"] == "right"

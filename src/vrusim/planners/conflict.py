@@ -141,6 +141,40 @@ def analyse_vru(
     return station, conflict, lead, distance, along, t_in, t_out
 
 
+@njit(cache=True, inline="always")
+def track_and_analyse(
+    path,
+    offset,
+    t,
+    detected,
+    estimate,
+    b,
+    k,
+    memory_s,
+    track,
+    station,
+    front_station,
+    half_width,
+    radius,
+    margin,
+    horizon,
+):  # pragma: no cover (compiled)
+    """One VRU slot for one step: refresh its track, then its conflict facts (see `analyse_vru`).
+
+    Returns (known, station, conflict, lead, distance m, along speed m/s, t_in s, t_out s); when the track is
+    unknown the rest is meaningless and `station` is returned unchanged.
+    """
+    was_known = t - track[0] <= memory_s
+    known, x, y, vx, vy, ax, ay = update_track(t, detected, estimate, b, k, memory_s, track)
+    if not known:
+        return False, station, False, False, np.inf, 0.0, np.inf, -np.inf
+    guess = warm_station(path, offset, was_known, x, y, station)
+    s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
+        path, offset, guess, front_station, half_width, radius, margin, horizon, x, y, vx, vy, ax, ay
+    )
+    return True, s, conflict, lead, distance, along, t_in, t_out
+
+
 @dataclass
 class Conflicts:
     """Per-VRU conflict facts, [B, K]."""
@@ -216,30 +250,23 @@ def _analyse_batch(
     B, K = detected.shape
     for b in range(B):
         for k in range(K):
-            was_known = t - tracks[b, k, 0] <= memory[b]
-            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, memory[b], tracks[b, k])
-            if not known:
-                out[0, b, k], out[1, b, k], out[2, b, k], out[3, b, k] = 0.0, 0.0, np.inf, 0.0
-                out[4, b, k], out[5, b, k] = np.inf, -np.inf
-                continue
-            guess = warm_station(path, offsets[b], was_known, x, y, station[b, k])
-            s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
+            _, station[b, k], conflict, lead, distance, along, t_in, t_out = track_and_analyse(
                 path,
                 offsets[b],
-                guess,
+                t,
+                detected[b, k],
+                estimate,
+                b,
+                k,
+                memory[b],
+                tracks[b, k],
+                station[b, k],
                 front_station[b],
                 half_width[b],
                 radius[b, k],
                 margin[b],
                 horizon[b],
-                x,
-                y,
-                vx,
-                vy,
-                ax,
-                ay,
             )
-            station[b, k] = s
             out[0, b, k] = 1.0 if conflict else 0.0
             out[1, b, k] = 1.0 if lead else 0.0
             out[2, b, k], out[3, b, k], out[4, b, k], out[5, b, k] = distance, along, t_in, t_out

@@ -28,7 +28,7 @@ from numba import prange
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vrusim.errors import UserInputError
-from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
+from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.scenario.loading import field_path
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.kernels import batch_kernel
@@ -177,28 +177,25 @@ def _fsm_step(
         braking = mode[b] == PRE_SLOW or mode[b] == EMERGENCY_BRAKE
         gap, lead_speed, is_lead = np.inf, 0.0, False
         for k in range(K):
-            was_known = t - tracks[b, k, 0] <= p[b, _MEMORY]
-            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
-            if not known:
-                continue
-            guess = warm_station(path, offsets[b], was_known, x, y, station[b, k])
-            s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
+            known, station[b, k], conflict, lead, distance, along, t_in, t_out = track_and_analyse(
                 path,
                 offsets[b],
-                guess,
+                t,
+                detected[b, k],
+                estimate,
+                b,
+                k,
+                p[b, _MEMORY],
+                tracks[b, k],
+                station[b, k],
                 front_station[b],
                 half_width[b],
                 radius[b, k],
                 p[b, _MARGIN],
                 p[b, _HORIZON],
-                x,
-                y,
-                vx,
-                vy,
-                ax,
-                ay,
             )
-            station[b, k] = s
+            if not known:
+                continue
             if not conflict:
                 continue
             arrive = distance / arrival_speed
