@@ -197,28 +197,6 @@ class PathTable:
         out = _locate_many(self.arrays, np.ravel(row_offset), np.ravel(station_m).astype(float))
         return tuple(a.reshape(shape) for a in out)
 
-    def project(self, row_offset: np.ndarray, station_m: np.ndarray, px: np.ndarray, py: np.ndarray, iterations=2):
-        """Refine `station_m` toward the foot point of (px, py) on each path by Newton steps (warm start).
-
-        Returns (station, path x, path y, tangent x, tangent y, curvature) at the refined station.
-        """
-        shape = np.shape(station_m)
-        out = _project_many(
-            self.arrays,
-            np.ravel(row_offset),
-            np.ravel(station_m).astype(float),
-            np.ravel(px).astype(float),
-            np.ravel(py).astype(float),
-            iterations,
-        )
-        return tuple(a.reshape(shape) for a in out)
-
-    def project_global(self, rows: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-        """Cold-start station of each point (see `nearest_station`), to be refined by `project`; O(N) per point."""
-        shape = np.shape(px)
-        offsets = np.ravel(rows) * self.width
-        return _nearest_many(self.arrays, offsets, np.ravel(px) * 1.0, np.ravel(py) * 1.0).reshape(shape)
-
 
 @njit(cache=True, inline="always")
 def locate_point(path, offset, station):  # pragma: no cover
@@ -261,16 +239,6 @@ def _locate_many(path, offsets, stations):  # pragma: no cover
     return out[0], out[1], out[2], out[3], out[4]
 
 
-@njit(cache=True)
-def _project_many(path, offsets, stations, px, py, iterations):  # pragma: no cover (compiled)
-    n = stations.shape[0]
-    out = np.empty((6, n))
-    for i in range(n):
-        s, x, y, tx, ty, k = project_point(path, offsets[i], stations[i], px[i], py[i], iterations)
-        out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], out[5, i] = s, x, y, tx, ty, k
-    return out[0], out[1], out[2], out[3], out[4], out[5]
-
-
 @njit(cache=True, inline="always")
 def nearest_station(path, offset, px, py):  # pragma: no cover (compiled)
     """Approximate foot-point station of (px, py) on the path and its straight extension past the end (O(N)).
@@ -294,11 +262,3 @@ def nearest_station(path, offset, px, py):  # pragma: no cover (compiled)
     if along > 0.0 and across * across < best:
         best_s = last / inv_spacing + along
     return best_s
-
-
-@njit(cache=True)
-def _nearest_many(path, offsets, px, py):  # pragma: no cover (compiled)
-    out = np.empty(px.shape[0])
-    for i in range(px.shape[0]):
-        out[i] = nearest_station(path, offsets[i], px[i], py[i])
-    return out
