@@ -43,6 +43,8 @@ FIELDS = (
     "prev_speed",
     "prev_ttc_s",
     "prev_ttc_vru",
+    "first_warning_s",
+    "warning_ttc_s",
 )
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
@@ -76,6 +78,8 @@ _I = {name: index for index, name in enumerate(FIELDS)}
     PREV_V,
     PREV_TTC,
     PREV_TTC_VRU,
+    FIRST_WARNING,
+    WARNING_TTC,
 ) = range(len(FIELDS))
 
 
@@ -98,6 +102,8 @@ class RunMetrics:
             IMPACT_Y,
             FIRST_SENSOR,
             FIRST_V2X,
+            FIRST_WARNING,
+            WARNING_TTC,
         )
         values[list(nan_rows)] = np.nan
         values[[MIN_CLR, MIN_TTC, PREV_CLR, PREV_TTC]] = np.inf
@@ -118,6 +124,14 @@ class RunMetrics:
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
         _record_detection(self.params.size, t_s, active, sensed, v2x_received, self.values)
+
+    def record_warning(self, t_s: float, active, warning) -> None:
+        """First forward-collision warning of each variant, with the TTC of the state it was issued on."""
+        values = self.values
+        new = np.asarray(active) & np.asarray(warning, dtype=bool) & np.isnan(values[FIRST_WARNING])
+        if new.any():
+            values[FIRST_WARNING, new] = t_s
+            values[WARNING_TTC, new] = values[PREV_TTC, new]
 
     def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
         """Every planner state transition, with its time."""

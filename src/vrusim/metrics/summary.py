@@ -89,6 +89,8 @@ def summary_rows(run: BatchRun) -> list[dict]:
                 "impact_vru": int(m.impact_vru[b]) if collided else None,
                 "first_sensor_detection_s": _value(m.first_sensor_s[b]),
                 "first_v2x_message_s": _value(m.first_v2x_s[b]),
+                "first_warning_s": _value(m.first_warning_s[b]),
+                "warning_ttc_s": _value(m.warning_ttc_s[b]),
                 "first_mode_s": first_mode,
                 "transitions": transitions,
                 "min_clearance_m": _value(m.min_clearance_m[b]),

@@ -148,32 +148,52 @@ class PlannerSpec(_Frozen):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
+_TRIGGER_CONDITIONS = ("at_time_s", "ego_distance_m", "ego_time_to_arrival_s", "ego_route_m")
+
+
 class Trigger(_Frozen):
-    """When a VRU starts moving: give exactly one of the three conditions."""
+    """When a VRU starts moving: give exactly one of the four conditions."""
 
     at_time_s: float | None = Field(None, ge=0)
     ego_distance_m: float | None = Field(None, ge=0, description="ego front within this distance of `point`")
     ego_time_to_arrival_s: float | None = Field(None, ge=0, description="ego front distance / speed to `point`")
+    ego_route_m: float | None = Field(
+        None, ge=0, description="ego (rear axle) has travelled this far along its route, m"
+    )
     point: Point | None = None
 
     @model_validator(mode="after")
     def _exactly_one(self) -> Self:
-        given = [n for n in ("at_time_s", "ego_distance_m", "ego_time_to_arrival_s") if getattr(self, n) is not None]
+        given = [n for n in _TRIGGER_CONDITIONS if getattr(self, n) is not None]
         if len(given) != 1:
-            raise ValueError("give exactly one of at_time_s, ego_distance_m, ego_time_to_arrival_s")
-        if given[0] != "at_time_s" and self.point is None:
+            raise ValueError(f"give exactly one of {', '.join(_TRIGGER_CONDITIONS)}")
+        needs_point = given[0] in ("ego_distance_m", "ego_time_to_arrival_s")
+        if needs_point and self.point is None:
             raise ValueError(f"{given[0]} needs `point`")
         return self
 
 
+class VruBrake(_Frozen):
+    """A braking phase: a set time after its trigger the VRU decelerates to a standstill."""
+
+    after_trigger_s: float = Field(ge=0, description="delay from the trigger to the start of braking, s")
+    decel_mps2: float = Field(gt=0, description="constant deceleration, m/s^2")
+
+
 class Vru(_Frozen):
-    """A vulnerable road user: a point mass moving along a prescribed path from rest to its top speed."""
+    """A vulnerable road user: a point mass moving along a prescribed path from rest to its top speed.
+
+    Before its trigger fires it holds `initial_speed_mps` (0: standing); a `brake` phase, if given, then
+    stops it. A `top_speed_mps` of 0 is a stationary target.
+    """
 
     type: VruType
     start: Point
     heading_deg: float | None = Field(None, description="straight path from start in this direction")
     path: list[Point] | None = Field(None, description="polyline waypoints after start")
-    top_speed_mps: float | None = Field(None, gt=0)
+    top_speed_mps: float | None = Field(None, ge=0)
+    initial_speed_mps: float = Field(0.0, ge=0, description="speed at t = 0, held until the trigger fires")
+    brake: VruBrake | None = None
     max_accel_mps2: float | None = Field(None, gt=0)
     radius_m: float | None = Field(None, gt=0)
     speed_time_constant_s: float = Field(0.0, ge=0, description="relaxation time toward top speed; 0: none")

@@ -11,7 +11,7 @@ from vrusim.errors import UserInputError
 from vrusim.scenario.paths import Line, PathSpec, PathTable, ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
 
-TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL = 0, 1, 2
+TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
 _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
 """Path of an unused VRU slot: 10,000 km away, so it never interacts."""
 
@@ -62,6 +62,10 @@ class BatchParams:
     vru_max_accel_mps2: np.ndarray
     vru_radius_m: np.ndarray
     vru_tau_s: np.ndarray
+    vru_initial_speed_mps: np.ndarray
+    vru_brake_after_s: np.ndarray
+    """Delay from trigger to braking, s (inf: never brakes)."""
+    vru_brake_decel_mps2: np.ndarray
     vru_paths: PathTable
     vru_path_offset: np.ndarray
     trigger_kind: np.ndarray
@@ -105,7 +109,8 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
 
     vru_valid = np.zeros((B, K), dtype=bool)
     vru_type = np.zeros((B, K), dtype=object)
-    numeric = {name: np.zeros((B, K)) for name in ("top", "acc", "rad", "tau", "tval", "tx", "ty")}
+    numeric = {name: np.zeros((B, K)) for name in ("top", "acc", "rad", "tau", "tval", "tx", "ty", "v0", "bdecel")}
+    brake_after = np.full((B, K), math.inf)
     numeric["rad"][:] = 0.1
     trigger_kind = np.zeros((B, K), dtype=np.int8)
     path_specs: list = []
@@ -118,11 +123,16 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
             numeric["acc"][b, k] = vru.accel_mps2
             numeric["rad"][b, k] = vru.footprint_m
             numeric["tau"][b, k] = vru.speed_time_constant_s
+            numeric["v0"][b, k] = vru.initial_speed_mps
+            if vru.brake is not None:
+                brake_after[b, k], numeric["bdecel"][b, k] = vru.brake.after_trigger_s, vru.brake.decel_mps2
             trig = vru.trigger
             if trig.at_time_s is not None:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME, trig.at_time_s
             elif trig.ego_distance_m is not None:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_DISTANCE, trig.ego_distance_m
+            elif trig.ego_route_m is not None:
+                trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_ROUTE, trig.ego_route_m
             else:
                 trigger_kind[b, k], numeric["tval"][b, k] = (
                     TRIGGER_TIME_TO_ARRIVAL,
@@ -182,6 +192,9 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         vru_max_accel_mps2=numeric["acc"],
         vru_radius_m=numeric["rad"],
         vru_tau_s=numeric["tau"],
+        vru_initial_speed_mps=numeric["v0"],
+        vru_brake_after_s=brake_after,
+        vru_brake_decel_mps2=numeric["bdecel"],
         vru_paths=vru_paths,
         vru_path_offset=vru_rows * vru_paths.width,
         trigger_kind=trigger_kind,

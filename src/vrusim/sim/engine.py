@@ -91,8 +91,11 @@ def simulate(
         command = _checked_command(planner.act(observation), params.size, planner_name)
         if old_mode is not None:
             metrics.record_modes(t, active, old_mode, planner.mode)
+        warning = getattr(planner, "warning", None)
+        if warning is not None:
+            metrics.record_warning(t, active, warning)
         moving_before = ego.speed_mps > 0.0
-        advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps)
+        advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps, ego.station_m)
         advance_egos(params, ego, command)
         t_next = (step + 1) * dt
 

@@ -44,6 +44,8 @@ class VruState:
     """Path-constrained point masses, [B, K]. `kinematics` [6, B, K] stacks the rows of `KINEMATICS`."""
 
     started: np.ndarray
+    started_at_s: np.ndarray
+    """Time the trigger fired, s (inf before)."""
     station_m: np.ndarray
     speed_mps: np.ndarray
     kinematics: np.ndarray
@@ -97,9 +99,12 @@ def initial_ego(params: BatchParams) -> EgoState:
 
 
 def initial_vrus(params: BatchParams) -> VruState:
-    """VRUs at rest at the start of their paths."""
+    """VRUs at the start of their paths, at their initial speed (usually at rest)."""
     zeros = np.zeros(params.vru_valid.shape)
-    x, y, _, _, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
+    x, y, tx, ty, _ = params.vru_paths.locate(params.vru_path_offset, zeros)
+    speed = params.vru_initial_speed_mps.copy()
     kinematics = np.zeros((len(KINEMATICS), *zeros.shape))
     kinematics[0], kinematics[1] = x, y
-    return VruState(np.zeros(zeros.shape, dtype=bool), zeros.copy(), zeros.copy(), kinematics)
+    kinematics[2], kinematics[3] = speed * tx, speed * ty
+    never = np.full(zeros.shape, np.inf)
+    return VruState(np.zeros(zeros.shape, dtype=bool), never, zeros.copy(), speed, kinematics)

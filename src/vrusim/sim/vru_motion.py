@@ -2,9 +2,11 @@
 
 Along the path, acceleration a = clip((v_target - v) / max(tau, dt), -a_max, a_max): with tau = 0 the VRU
 accelerates at a_max from rest and holds its top speed exactly (Euro NCAP targets); tau > 0 gives the
-exponential approach of the social-force driving term (Helbing & Molnár 1995). A VRU stands still until its
-trigger fires (at a time; or when the ego's front bumper is within a distance, or a time-to-arrival at its
-current speed, of a point); from then on it follows its profile open-loop and never reacts to the ego.
+exponential approach of the social-force driving term (Helbing & Molnár 1995). A VRU holds its initial speed
+(usually 0: standing) until its trigger fires (at a time; when the ego's front bumper is within a distance, or a
+time-to-arrival at its current speed, of a point; or when the ego has travelled a distance along its route);
+from then on it follows its profile open-loop and never reacts to the ego. An optional braking phase starts a
+set time after the trigger: the target speed becomes 0 and the deceleration is limited to its own value.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import numpy as np
 from numba import prange
 
 from vrusim.scenario.paths import locate_point
-from vrusim.sim.batch import TRIGGER_DISTANCE, TRIGGER_TIME, BatchParams
+from vrusim.sim.batch import TRIGGER_DISTANCE, TRIGGER_ROUTE, TRIGGER_TIME, BatchParams
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.state import VruState
 
@@ -25,6 +27,7 @@ def advance_vrus(
     front_x: np.ndarray,
     front_y: np.ndarray,
     ego_speed: np.ndarray,
+    ego_station: np.ndarray,
 ) -> None:
     """Fire triggers from the ego state at t_s, then advance every VRU by one step (in place)."""
     _advance(
@@ -38,12 +41,17 @@ def advance_vrus(
         params.vru_top_speed_mps,
         params.vru_max_accel_mps2,
         params.vru_tau_s,
+        params.vru_initial_speed_mps,
+        params.vru_brake_after_s,
+        params.vru_brake_decel_mps2,
         params.dt_s,
         t_s,
         front_x,
         front_y,
         ego_speed,
+        ego_station,
         vrus.started,
+        vrus.started_at_s,
         vrus.station_m,
         vrus.speed_mps,
         vrus.kinematics,
@@ -61,12 +69,17 @@ def _advance(
     top,
     max_accel,
     tau,
+    initial_speed,
+    brake_after,
+    brake_decel,
     dt,
     t,
     front_x,
     front_y,
     ego_speed,
+    ego_station,
     started,
+    started_at,
     station,
     speed,
     kin,
@@ -77,14 +90,24 @@ def _advance(
             if not started[b, k]:
                 if kind[b, k] == TRIGGER_TIME:
                     started[b, k] = t >= value[b, k] - 1e-9
+                elif kind[b, k] == TRIGGER_ROUTE:
+                    started[b, k] = ego_station[b] >= value[b, k] - 1e-9
                 else:
                     dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
                     distance = np.sqrt(dx * dx + dy * dy)
                     limit = value[b, k] if kind[b, k] == TRIGGER_DISTANCE else value[b, k] * ego_speed[b]
                     started[b, k] = distance <= limit
-            target = top[b, k] if started[b, k] else 0.0
+                if started[b, k]:
+                    started_at[b, k] = t
+            limit = max_accel[b, k]
+            if not started[b, k]:
+                target = initial_speed[b, k]
+            elif t >= started_at[b, k] + brake_after[b, k] - 1e-9:
+                target, limit = 0.0, brake_decel[b, k]
+            else:
+                target = top[b, k]
             accel = (target - speed[b, k]) / max(tau[b, k], dt)
-            accel = min(max(accel, -max_accel[b, k]), max_accel[b, k])
+            accel = min(max(accel, -limit), limit)
             new_speed = speed[b, k] + accel * dt
             station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
             speed[b, k] = new_speed
