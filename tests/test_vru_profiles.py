@@ -101,3 +101,16 @@ def test_first_warning_time_and_its_ttc_are_recorded(make_scenario):
     assert run.metrics.warning_ttc_s[0] == pytest.approx((30.0 - 10.0 * 1.0) / 10.0, abs=1e-6)
     silent = simulate([scenario], planner=HoldSpeedPlanner())
     assert math.isnan(silent.metrics.first_warning_s[0])
+
+
+def test_route_trigger_starts_the_profile_at_the_exact_crossing_instant(make_scenario):
+    """The ego (10 m/s) passes 7.345 m at t = 0.7345 s, inside a step: the VRU's profile starts there, not at 0.74 s."""
+    top, accel, crossing = 2.0, 1.0, 0.7345
+    vru = {"type": "pedestrian", "start": [60.0, 40.0], "heading_deg": 90.0, "top_speed_mps": top,
+           "max_accel_mps2": accel, "trigger": {"ego_route_m": 10.0 * crossing}}  # fmt: skip
+    scenario = make_scenario({"vrus": [vru], "sim": {"duration_s": 5.0}})
+    trace = simulate([scenario], trace=True).trace
+    tau = np.maximum(trace["t_s"] - crossing, 0.0)
+    t_top = top / accel
+    expected = np.where(tau <= t_top, 0.5 * accel * tau**2, top * top / (2 * accel) + top * (tau - t_top))
+    np.testing.assert_allclose(trace["vru_y_m"][:, 0, 0] - 40.0, expected, atol=2e-4)

@@ -7,6 +7,9 @@ exponential approach of the social-force driving term (Helbing & Molnár 1995). 
 time-to-arrival at its current speed, of a point; or when the ego has travelled a distance along its route);
 from then on it follows its profile open-loop and never reacts to the ego. An optional braking phase starts a
 set time after the trigger: the target speed becomes 0 and the deceleration is limited to its own value.
+A trigger is checked at step starts, but the profile starts at the instant inside the last step when the
+condition was met (time and route triggers; interpolated at the ego's speed), so synchronisation does not
+carry a one-step error.
 """
 
 from __future__ import annotations
@@ -87,18 +90,28 @@ def _advance(
     B, K = station.shape
     for b in prange(B):
         for k in range(K):
+            step = dt
             if not started[b, k]:
+                lead = 0.0  # how long ago, inside the last step, the condition was met
                 if kind[b, k] == TRIGGER_TIME:
                     started[b, k] = t >= value[b, k] - 1e-9
+                    lead = t - value[b, k]
                 elif kind[b, k] == TRIGGER_ROUTE:
                     started[b, k] = ego_station[b] >= value[b, k] - 1e-9
+                    if ego_speed[b] > 0.0:
+                        lead = (ego_station[b] - value[b, k]) / ego_speed[b]
                 else:
                     dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
                     distance = np.sqrt(dx * dx + dy * dy)
                     limit = value[b, k] if kind[b, k] == TRIGGER_DISTANCE else value[b, k] * ego_speed[b]
                     started[b, k] = distance <= limit
                 if started[b, k]:
-                    started_at[b, k] = t
+                    # start the profile where the trigger was met, not at the step boundary: back up to that
+                    # instant at the initial speed and integrate this step over dt + lead
+                    lead = min(max(lead, 0.0), dt)
+                    started_at[b, k] = t - lead
+                    station[b, k] -= speed[b, k] * lead
+                    step = dt + lead
             limit = max_accel[b, k]
             if not started[b, k]:
                 target = initial_speed[b, k]
@@ -106,10 +119,10 @@ def _advance(
                 target, limit = 0.0, brake_decel[b, k]
             else:
                 target = top[b, k]
-            accel = (target - speed[b, k]) / max(tau[b, k], dt)
+            accel = (target - speed[b, k]) / max(tau[b, k], step)
             accel = min(max(accel, -limit), limit)
-            new_speed = speed[b, k] + accel * dt
-            station[b, k] += (speed[b, k] + new_speed) * 0.5 * dt
+            new_speed = speed[b, k] + accel * step
+            station[b, k] += (speed[b, k] + new_speed) * 0.5 * step
             speed[b, k] = new_speed
             px, py, tx, ty, _ = locate_point(path, offsets[b, k], station[b, k])
             kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
