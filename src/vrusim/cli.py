@@ -10,27 +10,22 @@ code 2, never a traceback; anything else that goes wrong is a bug and keeps its 
 
 from __future__ import annotations
 
-import json
-import os
 import sys
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
-from enum import StrEnum
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 from pydantic import ValidationError
 from rich import box
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
 from vrusim import __version__
+from vrusim.cli_ncap import register as register_catalogue_commands
+from vrusim.cli_support import USER_ERROR_EXIT_CODE, V2XSwitch, print_json, report_user_error, user_errors
+from vrusim.cli_support import console as _console
 from vrusim.errors import UserInputError
-
-USER_ERROR_EXIT_CODE = 2
-"""Exit code for bad user input (the same as for a bad command-line option)."""
 
 app = typer.Typer(
     name="vrusim",
@@ -41,42 +36,7 @@ app = typer.Typer(
 )
 
 
-class V2XSwitch(StrEnum):
-    """Values of --v2x."""
-
-    on = "on"
-    off = "off"
-
-
 # ----------------------------------------------------------------------------------------------- helpers
-
-
-def report_user_error(error: UserInputError) -> None:
-    """Print a user error as one plain message on stderr (no markup, no traceback)."""
-    typer.echo(f"Error: {error}", err=True)
-
-
-@contextmanager
-def user_errors() -> Iterator[None]:
-    """Turn a UserInputError raised inside the block into its message on stderr and exit code 2."""
-    try:
-        yield
-    except UserInputError as error:
-        report_user_error(error)
-        raise typer.Exit(USER_ERROR_EXIT_CODE) from None
-
-
-def _console() -> Console:
-    """A console on the current stdout; wide enough for the tables when not writing to a terminal."""
-    console = Console(highlight=False)
-    if not console.is_terminal and "COLUMNS" not in os.environ:
-        console = Console(highlight=False, width=120)
-    return console
-
-
-def _print_json(document: Any) -> None:
-    """Exactly one JSON document on stdout (strict: NaN or infinity would be a bug and raise)."""
-    typer.echo(json.dumps(document, indent=2, allow_nan=False))
 
 
 def _num(value: float | None, unit: str = "", digits: int = 2) -> str:
@@ -215,7 +175,7 @@ def run(
             except UserInputError as error:
                 raise UserInputError(f"--trace: {error}") from None
     if as_json:
-        _print_json(row)
+        print_json(row)
         return
     console = _console()
     console.print(_summary_table(row))
@@ -321,7 +281,7 @@ def paper(
 
         result = reproduce()
     if as_json:
-        _print_json(result)
+        print_json(result)
         return
     console = _console()
     console.print(_table_ii(result))
@@ -332,6 +292,8 @@ def paper(
     colour = "green" if all_match else "yellow"
     console.print(f"[{colour}]Matches: {parts}.[/]")
 
+
+register_catalogue_commands(app)
 
 # ----------------------------------------------------------------------------------------------- entry point
 

@@ -1,0 +1,93 @@
+"""Euro NCAP catalogue: with no reaction (planner `none`) every test of every family meets its nominal impact.
+
+At the nominal impact instant the target's reference point must sit on the VUT's leading edge (front; rear
+when reversing) at the protocol's impact location, within ±0.05 m both across and along the VUT, with the
+target at its steady speed, and the bodies must touch.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vrusim.catalog.ncap import run_tests, select
+from vrusim.catalog.ncap_build import VUT, build_test
+from vrusim.catalog.ncap_protocol import SCENARIOS
+from vrusim.sim.engine import simulate
+
+TOLERANCE_M = 0.05
+
+
+def _families() -> list[str]:
+    return [s.code for s in SCENARIOS]
+
+
+def _no_stop(scenario):
+    data = scenario.model_dump()
+    data["sim"]["stop_on_collision"] = False
+    return type(scenario).model_validate(data)
+
+
+def _interp(t, series, at):
+    return float(np.interp(at, t, series))
+
+
+@pytest.mark.parametrize("code", _families())
+def test_every_test_meets_its_nominal_impact_location(code):
+    built = [build_test(test, planner="none") for test in select([code])]
+    run = simulate([_no_stop(b.scenario) for b in built], trace=True)
+    trace = run.trace
+    t = trace["t_s"]
+    half_length = VUT["length_m"] / 2
+    for b_index, b in enumerate(built):
+        nominal = b.nominal
+        at = nominal.time_s
+        assert run.metrics.collided[b_index], f"{b.test.test_id}: no contact"
+        hx = _interp(t, trace["ego_heading_x"][:, b_index], at)
+        hy = _interp(t, trace["ego_heading_y"][:, b_index], at)
+        norm = math.hypot(hx, hy)
+        hx, hy = hx / norm, hy / norm
+        cx = _interp(t, trace["ego_x_m"][:, b_index], at)
+        cy = _interp(t, trace["ego_y_m"][:, b_index], at)
+        vx = _interp(t, trace["vru_x_m"][:, b_index, 0], at)
+        vy = _interp(t, trace["vru_y_m"][:, b_index, 0], at)
+        # the reference point lies behind the footprint centre along the target's heading
+        rx = vx - nominal.ref_behind_centre_m * math.cos(nominal.target_heading_rad)
+        ry = vy - nominal.ref_behind_centre_m * math.sin(nominal.target_heading_rad)
+        local_x = (rx - cx) * hx + (ry - cy) * hy
+        local_y = -(rx - cx) * hy + (ry - cy) * hx
+        assert local_x == pytest.approx(half_length, abs=TOLERANCE_M), f"{b.test.test_id}: along {local_x:.3f}"
+        assert local_y == pytest.approx(nominal.lateral_m, abs=TOLERANCE_M), f"{b.test.test_id}: across {local_y:.3f}"
+        if b.test.spec.layout != "rear" or b.test.spec.headway_s == 0:
+            speed = _interp(t, trace["vru_speed_mps"][:, b_index, 0], at)
+            assert speed == pytest.approx(b.test.target_speed_mps, abs=1e-6), f"{b.test.test_id}: not steady"
+            assert nominal.steady_from_s <= at
+
+
+def test_catalogue_lists_every_family_of_the_issue():
+    codes = set(_families())
+    required = {
+        "CPFA-50", "CPNA-25", "CPNA-75", "CPNCO-50", "CPLA-50", "CPLA-25", "CPTAfs", "CPTAfo", "CPTAns", "CPTAno",
+        "CPRA-Cm", "CPRA-Cs", "CBNA-50", "CBNAO-50", "CBFA-50", "CBLA-50", "CBLA-25", "CBTAfs", "CBTAfo",
+        "CBTAns", "CBTAno", "CMRs", "CMRb", "CMFtap", "CENA-50", "CEFA-50", "CELA-50", "CETAfs",
+    }  # fmt: skip
+    assert required <= codes
+
+
+def test_grid_sizes_follow_the_protocol():
+    assert len(select(["CPNA-25"])) == 11  # 10..60 km/h in 5 km/h steps, day
+    assert len(select(["CPNA-25"], night=True)) == 22
+    assert len(select(["CPLA-50"])) == 9  # 20..60
+    assert len(select(["CMFtap"])) == 9  # 3 VUT x 3 EMT speeds
+    assert len(select(["CPRA-Cs"])) == 6
+
+
+def test_fsm_runs_the_whole_grid_and_rows_are_complete():
+    result = run_tests(select(night=True), planner="fsm", v2x=False)
+    assert len(result.rows) == len(select(night=True)) > 300
+    for row in result.rows:
+        assert row["collided"] == (row["impact_speed_mps"] is not None)
+        for value in row.values():
+            assert not (isinstance(value, float) and math.isnan(value))
