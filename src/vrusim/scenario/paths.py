@@ -3,18 +3,20 @@
 Every path (ego route or VRU path) is sampled at a fixed arc-length spacing `SAMPLE_SPACING_M`. Identical paths
 share one table row, so a sweep over speeds stores one route. Between samples a path is linear; beyond either
 end it continues along its first / last segment (a VRU keeps walking straight past its last waypoint).
-Lines and arcs are sampled exactly (chord error of a 0.2 m spacing on a 10 m radius: 0.5 mm).
+Lines and arcs are sampled exactly (chord error of a 0.2 m spacing on a 10 m radius: 0.5 mm), clothoids by
+Gauss-Legendre quadrature of their heading (error at round-off level).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal, NamedTuple
 
 import numpy as np
 from numba import njit
 
-from vrusim.scenario.schema import Ego, Vru
+from vrusim.scenario.schema import Ego, Route, Vru
 
 SAMPLE_SPACING_M = 0.2
 """Arc-length spacing of path samples, m."""
@@ -39,7 +41,29 @@ class Arc:
         return self.radius_m * abs(self.angle_rad)
 
 
-Piece = Line | Arc
+@dataclass(frozen=True)
+class Clothoid:
+    """A clothoid (Euler spiral) of `length_m`: curvature linear in arc length from start to end (1/m, signed).
+
+    Positive curvature turns left. Its heading changes by `length_m * (start + end) / 2`.
+    """
+
+    start_curvature_per_m: float
+    end_curvature_per_m: float
+    length_m: float
+
+    @property
+    def sharpness_per_m2(self) -> float:
+        """Curvature change per metre, 1/m^2."""
+        return (self.end_curvature_per_m - self.start_curvature_per_m) / self.length_m
+
+    @property
+    def angle_rad(self) -> float:
+        """Heading change over the piece, rad (positive: left)."""
+        return self.length_m * (self.start_curvature_per_m + self.end_curvature_per_m) / 2
+
+
+Piece = Line | Arc | Clothoid
 
 
 @dataclass(frozen=True)
@@ -67,6 +91,99 @@ class PolylineSpec:
         return sum(math.dist(a, b) for a, b in zip(self.points, self.points[1:], strict=False))
 
 
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
+_QUADRATURE_STEP_M = 0.25
+"""Longest sub-interval of the clothoid quadrature (8-point Gauss-Legendre: round-off accuracy)."""
+
+
+def _clothoid_heading(piece: Clothoid, heading: float, local: np.ndarray) -> np.ndarray:
+    return heading + local * (piece.start_curvature_per_m + 0.5 * piece.sharpness_per_m2 * local)
+
+
+def _clothoid_offsets(piece: Clothoid, heading: float, local: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Displacement (x, y) from the piece start at stations `local` in [0, length_m], by cumulative quadrature."""
+    knots, inverse = np.unique(np.concatenate([[0.0], local]), return_inverse=True)
+    parts = np.maximum(np.ceil(np.diff(knots) / _QUADRATURE_STEP_M), 1).astype(np.int64)
+    owner = np.repeat(np.arange(len(parts)), parts)  # interval of each sub-interval
+    first = np.cumsum(parts) - parts
+    width = (np.diff(knots) / parts)[owner]
+    lo = knots[owner] + (np.arange(len(owner)) - first[owner]) * width
+    nodes = lo[:, None] + 0.5 * width[:, None] * (_GAUSS_NODES + 1.0)
+    angles = _clothoid_heading(piece, heading, nodes)
+    weights = 0.5 * width[:, None] * _GAUSS_WEIGHTS
+    sub_x, sub_y = (np.cos(angles) * weights).sum(axis=1), (np.sin(angles) * weights).sum(axis=1)
+    cum_x = np.concatenate([[0.0], np.cumsum(np.bincount(owner, sub_x, len(parts)))])
+    cum_y = np.concatenate([[0.0], np.cumsum(np.bincount(owner, sub_y, len(parts)))])
+    return cum_x[inverse[1:]], cum_y[inverse[1:]]
+
+
+def _piece_poses(piece: Piece, x: float, y: float, heading: float, local: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(x, y, heading, curvature) at stations `local` >= 0 from the piece start; straight on past its end."""
+    if isinstance(piece, Line):
+        return (
+            x + local * math.cos(heading),
+            y + local * math.sin(heading),
+            np.full(local.shape, heading),
+            np.zeros(local.shape),
+        )
+    if isinstance(piece, Arc):
+        sign = 1.0 if piece.angle_rad > 0 else -1.0
+        centre_x = x - sign * piece.radius_m * math.sin(heading)
+        centre_y = y + sign * piece.radius_m * math.cos(heading)
+        angles = heading + sign * np.minimum(local, piece.length_m) / piece.radius_m
+        beyond = np.maximum(local - piece.length_m, 0.0)
+        px = centre_x + sign * piece.radius_m * np.sin(angles) + beyond * np.cos(angles)
+        py = centre_y - sign * piece.radius_m * np.cos(angles) + beyond * np.sin(angles)
+        curvature = np.where(local <= piece.length_m, sign / piece.radius_m, 0.0)
+        return px, py, angles, curvature
+    within = np.minimum(local, piece.length_m)
+    angles = _clothoid_heading(piece, heading, within)
+    dx, dy = _clothoid_offsets(piece, heading, within)
+    beyond = np.maximum(local - piece.length_m, 0.0)
+    curvature = np.where(local <= piece.length_m, piece.start_curvature_per_m + piece.sharpness_per_m2 * local, 0.0)
+    return x + dx + beyond * np.cos(angles), y + dy + beyond * np.sin(angles), angles, curvature
+
+
+def _piece_end(piece: Piece, x: float, y: float, heading: float) -> tuple[float, float, float]:
+    """The pose (x, y, heading) at the end of a piece that starts at (x, y, heading)."""
+    if isinstance(piece, Line):
+        return x + piece.length_m * math.cos(heading), y + piece.length_m * math.sin(heading), heading
+    if isinstance(piece, Arc):
+        sign = 1.0 if piece.angle_rad > 0 else -1.0
+        centre_x = x - sign * piece.radius_m * math.sin(heading)
+        centre_y = y + sign * piece.radius_m * math.cos(heading)
+        heading += piece.angle_rad
+        return (
+            centre_x + sign * piece.radius_m * math.sin(heading),
+            centre_y - sign * piece.radius_m * math.cos(heading),
+            heading,
+        )
+    end_x, end_y, _, _ = _piece_poses(piece, x, y, heading, np.array([piece.length_m]))
+    return float(end_x[0]), float(end_y[0]), heading + piece.angle_rad
+
+
+def path_poses(spec: PathSpec, station_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Exact pose of a path at stations (m, >= 0): x (m), y (m), heading (rad, unwrapped), curvature (1/m).
+
+    Past the end the path continues straight along its last heading (curvature 0).
+    """
+    stations = np.atleast_1d(np.asarray(station_m, dtype=float))
+    if np.any(stations < 0.0):
+        raise ValueError("stations must be >= 0")
+    out = np.empty((4, stations.size))
+    x, y, heading, start = spec.x0_m, spec.y0_m, spec.heading0_rad, 0.0
+    pieces = list(spec.pieces) or [Line(0.0)]
+    for index, piece in enumerate(pieces):
+        last = index == len(pieces) - 1
+        end = start + piece.length_m
+        mask = (stations >= start) & ((stations < end) | last)
+        if mask.any():
+            out[:, mask] = _piece_poses(piece, x, y, heading, stations[mask] - start)
+        x, y, heading = _piece_end(piece, x, y, heading)
+        start = end
+    return out[0], out[1], out[2], out[3]
+
+
 def sample_path(spec: PathSpec, spacing_m: float = SAMPLE_SPACING_M) -> np.ndarray:
     """Sample a path every `spacing_m`: array [N, 5] of x, y, tangent x, tangent y, curvature (1/m)."""
     count = max(2, math.ceil(spec.length_m / spacing_m - 1e-9) + 1)
@@ -78,50 +195,85 @@ def sample_path(spec: PathSpec, spacing_m: float = SAMPLE_SPACING_M) -> np.ndarr
         last = index == len(pieces) - 1
         end = start + piece.length_m
         mask = (stations >= start) & ((stations < end) | last)
-        local = stations[mask] - start
-        if isinstance(piece, Line):
-            out[mask] = np.column_stack(
-                [
-                    x + local * math.cos(heading),
-                    y + local * math.sin(heading),
-                    np.full(local.shape, math.cos(heading)),
-                    np.full(local.shape, math.sin(heading)),
-                    np.zeros(local.shape),
-                ]
-            )
-            x, y = x + piece.length_m * math.cos(heading), y + piece.length_m * math.sin(heading)
-        else:
-            sign = 1.0 if piece.angle_rad > 0 else -1.0
-            centre_x = x - sign * piece.radius_m * math.sin(heading)
-            centre_y = y + sign * piece.radius_m * math.cos(heading)
-            angles = heading + sign * np.minimum(local, piece.length_m) / piece.radius_m
-            beyond = np.maximum(local - piece.length_m, 0.0)
-            px = centre_x + sign * piece.radius_m * np.sin(angles) + beyond * np.cos(angles)
-            py = centre_y - sign * piece.radius_m * np.cos(angles) + beyond * np.sin(angles)
-            curvature = np.where(local <= piece.length_m, sign / piece.radius_m, 0.0)
+        if mask.any():
+            px, py, angles, curvature = _piece_poses(piece, x, y, heading, stations[mask] - start)
             out[mask] = np.column_stack([px, py, np.cos(angles), np.sin(angles), curvature])
-            heading += piece.angle_rad
-            x = centre_x + sign * piece.radius_m * math.sin(heading)
-            y = centre_y - sign * piece.radius_m * math.cos(heading)
+        x, y, heading = _piece_end(piece, x, y, heading)
         start = end
     return out
 
 
+def turn_pieces(route: Route) -> tuple[Piece, ...]:
+    """The turning part of a left / right route: an arc, or clothoid + arc + clothoid when `clothoid_angle_deg` > 0."""
+    sign = 1.0 if route.kind == "left" else -1.0
+    arc = Arc(route.radius_m, sign * math.radians(route.angle_deg))
+    if route.clothoid_angle_deg == 0.0:
+        return (arc,)
+    entry, arc_curvature = sign / route.clothoid_entry_radius_m, sign / route.radius_m
+    length = 2 * math.radians(route.clothoid_angle_deg) / (1 / route.clothoid_entry_radius_m + 1 / route.radius_m)
+    return Clothoid(entry, arc_curvature, length), arc, Clothoid(arc_curvature, entry, length)
+
+
+def route_spec(route: Route, x0_m: float, y0_m: float, heading0_rad: float) -> PathSpec:
+    """A route as a path from the start pose of the rear axle (m, m, rad)."""
+    if route.kind == "straight":
+        return PathSpec(x0_m, y0_m, heading0_rad, (Line(route.length_m),))
+    turn = turn_pieces(route)
+    exit_length = route.length_m - route.turn_at_m - sum(piece.length_m for piece in turn)
+    pieces = tuple(p for p in (Line(route.turn_at_m), *turn, Line(exit_length)) if p.length_m > 0)
+    return PathSpec(x0_m, y0_m, heading0_rad, pieces)
+
+
+class NcapTurn(NamedTuple):
+    """One Euro NCAP turning path: clothoid entry radius R1, arc radius R2 (m), clothoid and arc angles (deg)."""
+
+    entry_radius_m: float
+    radius_m: float
+    clothoid_angle_deg: float
+    arc_angle_deg: float
+
+
+NCAP_TURNS: dict[tuple[str, int], NcapTurn] = {
+    ("farside", 10): NcapTurn(1500.0, 9.00, 20.62, 48.75),
+    ("farside", 15): NcapTurn(1500.0, 11.75, 20.93, 48.14),
+    ("farside", 20): NcapTurn(1500.0, 14.75, 21.79, 46.42),
+    ("nearside", 10): NcapTurn(1500.0, 8.00, 22.85, 44.30),
+}
+"""Euro NCAP AEB VRU v4.5.1 turning paths by (side, ego speed in km/h). Traffic keeps right here, so a
+farside turn is a left turn and a nearside turn a right turn."""
+
+
+def ncap_turn_route(side: Literal["farside", "nearside"], speed_kph: int, turn_at_m: float, exit_m: float) -> Route:
+    """The Euro NCAP turning route for `side` at `speed_kph` (a key of `NCAP_TURNS`).
+
+    `turn_at_m` of straight approach before the first clothoid and `exit_m` of straight exit after the second.
+    """
+    if (side, speed_kph) not in NCAP_TURNS:
+        raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph} km/h; known: {sorted(NCAP_TURNS)}")
+    turn = NCAP_TURNS[side, speed_kph]
+    fields = {
+        "kind": "left" if side == "farside" else "right",
+        "turn_at_m": turn_at_m,
+        "radius_m": turn.radius_m,
+        "angle_deg": turn.arc_angle_deg,
+        "clothoid_angle_deg": turn.clothoid_angle_deg,
+        "clothoid_entry_radius_m": turn.entry_radius_m,
+    }
+    turn_length = Route(**fields, length_m=1e12).turn_length_m
+    return Route(**fields, length_m=turn_at_m + turn_length + exit_m)
+
+
 def ego_route_spec(ego: Ego) -> PathSpec:
-    """The route of the ego's rear-axle centre, which starts behind the rectangle centre given in `ego.start`."""
-    heading = math.radians(ego.start.heading_deg)
-    back = ego.length_m / 2 - ego.rear_overhang_m
+    """The route of the ego's rear-axle centre, which starts behind the rectangle centre given in `ego.start`.
+
+    A reversing ego is packed as a vehicle mirrored front to back (see `Ego.travel_heading_deg`): its
+    simulated rear axle is the real front axle.
+    """
+    heading = math.radians(ego.travel_heading_deg)
+    back = ego.length_m / 2 - ego.trailing_overhang_m
     x0 = ego.start.x_m - back * math.cos(heading)
     y0 = ego.start.y_m - back * math.sin(heading)
-    route = ego.route
-    if route.kind == "straight":
-        pieces: tuple[Piece, ...] = (Line(route.length_m),)
-    else:
-        sign = 1.0 if route.kind == "left" else -1.0
-        arc = Arc(route.radius_m, sign * math.radians(route.angle_deg))
-        exit_length = route.length_m - route.turn_at_m - arc.length_m
-        pieces = tuple(p for p in (Line(route.turn_at_m), arc, Line(exit_length)) if p.length_m > 0)
-    return PathSpec(x0, y0, heading, pieces)
+    return route_spec(ego.route, x0, y0, heading)
 
 
 def vru_path_spec(vru: Vru) -> PathSpec | PolylineSpec:

@@ -55,22 +55,47 @@ class Road(_Frozen):
 class Route(_Frozen):
     """The ego's prescribed path (tracked by the rear-axle centre), starting at its start pose.
 
-    straight: a line of `length_m`. left / right: a line of `turn_at_m`, a circular arc of `radius_m`
-    turning by `angle_deg`, then a line to the total `length_m`.
+    straight: a line of `length_m`. left / right: a line of `turn_at_m`, the turn, then a line to the total
+    `length_m`. The turn is a circular arc of `radius_m` turning by `angle_deg`; with `clothoid_angle_deg`
+    > 0 it is the Euro NCAP turning path instead: a clothoid (curvature 1/`clothoid_entry_radius_m` to
+    1/`radius_m`) turning by `clothoid_angle_deg`, the arc, and the mirror-image clothoid back.
     """
 
     kind: Literal["straight", "left", "right"] = "straight"
     turn_at_m: float = Field(0.0, ge=0)
     radius_m: float = Field(10.0, gt=0)
     angle_deg: float = Field(90.0, gt=0, le=180)
+    clothoid_angle_deg: float = Field(0.0, ge=0, lt=90, description="turning angle of each clothoid; 0: none")
+    clothoid_entry_radius_m: float = Field(1500.0, gt=0, description="radius where each clothoid meets a line")
     length_m: float = Field(150.0, gt=0, description="route (trip) length, m; travel time is measured over it")
+
+    @property
+    def clothoid_length_m(self) -> float:
+        """Length of each clothoid, m: 2 alpha / (1 / R1 + 1 / R2); 0 without clothoids."""
+        alpha = math.radians(self.clothoid_angle_deg)
+        return 2 * alpha / (1 / self.clothoid_entry_radius_m + 1 / self.radius_m)
+
+    @property
+    def turn_length_m(self) -> float:
+        """Length of the turn (clothoids and arc), m; 0 for a straight route."""
+        if self.kind == "straight":
+            return 0.0
+        return self.radius_m * math.radians(self.angle_deg) + 2 * self.clothoid_length_m
 
     @model_validator(mode="after")
     def _turn_fits(self) -> Self:
-        if self.kind != "straight":
-            needed = self.turn_at_m + self.radius_m * math.radians(self.angle_deg)
-            if needed > self.length_m:
-                raise ValueError(f"length_m must cover turn_at_m + the arc ({needed:.2f} m)")
+        if self.kind == "straight":
+            return self
+        if self.clothoid_angle_deg > 0:
+            if self.clothoid_entry_radius_m <= self.radius_m:
+                raise ValueError("clothoid_entry_radius_m must be larger than radius_m (the arc radius)")
+            total = 2 * self.clothoid_angle_deg + self.angle_deg
+            if total > 180:
+                raise ValueError(f"the turn 2 clothoid_angle_deg + angle_deg ({total:g} deg) must be at most 180 deg")
+        needed = self.turn_at_m + self.turn_length_m
+        if needed > self.length_m:
+            what = "the arc" if self.clothoid_angle_deg == 0 else "the clothoids and the arc"
+            raise ValueError(f"length_m must cover turn_at_m + {what} ({needed:.2f} m)")
         return self
 
 
@@ -82,12 +107,16 @@ class PathTracking(_Frozen):
 
 
 class Ego(_Frozen):
-    """The ego vehicle: a kinematic bicycle. `start` is the centre of its rectangle."""
+    """The ego vehicle: a kinematic bicycle. `start` is the centre of its rectangle, facing `start.heading_deg`.
+
+    With `reverse` it drives backwards: the route runs from the start pose against `start.heading_deg`.
+    """
 
     start: Pose
     cruise_speed_mps: float = Field(ge=0)
     initial_speed_mps: float | None = Field(None, ge=0, description="defaults to cruise_speed_mps")
     route: Route = Route()
+    reverse: bool = Field(False, description="drives backwards along a straight route; start faces heading_deg")
     length_m: float = Field(4.5, gt=0)
     width_m: float = Field(1.8, gt=0)
     wheelbase_m: float = Field(2.7, gt=0)
@@ -99,10 +128,19 @@ class Ego(_Frozen):
     max_steer_deg: float = Field(35.0, gt=0, lt=90)
     tracking: PathTracking = PathTracking()
 
+    @field_validator("reverse")
+    @classmethod
+    def _reverse_straight(cls, reverse: bool, info: Any) -> bool:
+        route = info.data.get("route")
+        if reverse and route is not None and route.kind != "straight":
+            raise ValueError(f"reversing needs a straight route (route.kind is {route.kind!r})")
+        return reverse
+
     @model_validator(mode="after")
     def _geometry(self) -> Self:
         if self.wheelbase_m + self.rear_overhang_m > self.length_m:
             raise ValueError("wheelbase_m + rear_overhang_m must not exceed length_m")
+        # the arc radius is the tightest of a turn (clothoids run from clothoid_entry_radius_m > radius_m)
         min_radius = self.wheelbase_m / math.tan(math.radians(self.max_steer_deg))
         if self.route.kind != "straight" and self.route.radius_m < min_radius:
             raise ValueError(
@@ -115,6 +153,22 @@ class Ego(_Frozen):
     def start_speed_mps(self) -> float:
         """Speed at t = 0, m/s."""
         return self.cruise_speed_mps if self.initial_speed_mps is None else self.initial_speed_mps
+
+    @property
+    def travel_heading_deg(self) -> float:
+        """Direction of travel at the start, degrees: `start.heading_deg`, turned by 180 when reversing."""
+        return self.start.heading_deg + 180.0 if self.reverse else self.start.heading_deg
+
+    @property
+    def trailing_overhang_m(self) -> float:
+        """Overhang behind the trailing axle in the direction of travel, m.
+
+        The rear overhang; when reversing, the front overhang `length_m - wheelbase_m - rear_overhang_m`
+        (the simulation drives the body mirrored front to back, its "front" being the real rear).
+        """
+        if self.reverse:
+            return self.length_m - self.wheelbase_m - self.rear_overhang_m
+        return self.rear_overhang_m
 
 
 class Sensor(_Frozen):

@@ -163,8 +163,9 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         half_length_m=ego_array(lambda s: s.ego.length_m / 2),
         half_width_m=ego_array(lambda s: s.ego.width_m / 2),
         wheelbase_m=wheelbase,
-        rear_to_centre_m=ego_array(lambda s: s.ego.length_m / 2 - s.ego.rear_overhang_m),
-        rear_to_front_m=ego_array(lambda s: s.ego.length_m - s.ego.rear_overhang_m),
+        # a reversing ego is packed mirrored front to back: its "rear" axle and overhang trail in the motion
+        rear_to_centre_m=ego_array(lambda s: s.ego.length_m / 2 - s.ego.trailing_overhang_m),
+        rear_to_front_m=ego_array(lambda s: s.ego.length_m - s.ego.trailing_overhang_m),
         cruise_speed_mps=ego_array(lambda s: s.ego.cruise_speed_mps),
         start_speed_mps=ego_array(lambda s: s.ego.start_speed_mps),
         max_accel_mps2=ego_array(lambda s: s.ego.max_accel_mps2),
