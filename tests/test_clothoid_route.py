@@ -12,17 +12,17 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from vrusim.catalog.ncap_build import ncap_turn_route
+from vrusim.catalog.ncap_protocol import TURN_PATHS
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.scenario.paths import (
-    NCAP_TURNS,
     SAMPLE_SPACING_M,
     Arc,
     Clothoid,
     Line,
     PathSpec,
     ego_route_spec,
-    ncap_turn_route,
     path_poses,
     route_spec,
     sample_path,
@@ -122,7 +122,8 @@ def turn_spec(side: str, kph: int, x0=0.0, y0=0.0, h0=0.0) -> PathSpec:
 @pytest.mark.parametrize("key", list(PROTOCOL))
 def test_ncap_turn_route_matches_protocol(key):
     r1, r2, alpha, beta = PROTOCOL[key]
-    assert tuple(NCAP_TURNS[key]) == (r1, r2, alpha, beta)
+    path = TURN_PATHS[key]
+    assert (path.entry_radius_m, path.radius_m, path.clothoid_angle_deg, path.arc_angle_deg) == (r1, r2, alpha, beta)
     route = ncap_turn_route(*key, TURN_AT, EXIT)
     assert route.kind == ("left" if key[0] == "farside" else "right")
     assert route.turn_at_m == TURN_AT

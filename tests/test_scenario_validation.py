@@ -65,8 +65,18 @@ CASES = [
     ),
     ("negative-speed", set_vru0("top_speed_mps", -1.0), "vrus[0].top_speed_mps", r"greater than or equal to 0"),
     ("negative-initial-speed", set_vru0("initial_speed_mps", -0.5), "vrus[0].initial_speed_mps", r"greater than or"),
-    ("zero-brake-decel", set_vru0("brake", {"after_trigger_s": 1.0, "decel_mps2": 0.0}), "vrus[0].brake.decel_mps2", r"greater than 0"),
-    ("trigger-route-and-time", set_vru0("trigger", {"at_time_s": 1.0, "ego_route_m": 3.0}), "vrus[0].trigger", r"exactly one"),
+    (
+        "zero-brake-decel",
+        set_vru0("brake", {"after_trigger_s": 1.0, "decel_mps2": 0.0}),
+        "vrus[0].brake.decel_mps2",
+        r"greater than 0",
+    ),
+    (
+        "trigger-route-and-time",
+        set_vru0("trigger", {"at_time_s": 1.0, "ego_route_m": 3.0}),
+        "vrus[0].trigger",
+        r"exactly one",
+    ),
     (
         "negative-cruise",
         lambda d: d["ego"].update(cruise_speed_mps=-3.0),

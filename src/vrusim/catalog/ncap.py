@@ -95,4 +95,3 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
             }
         )
     return CatalogueRun(built, run, rows)
-

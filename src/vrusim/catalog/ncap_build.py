@@ -27,7 +27,7 @@ from vrusim.catalog.ncap_protocol import (
     NcapScenario,
 )
 from vrusim.scenario.paths import ego_route_spec, sample_path
-from vrusim.scenario.schema import Ego, Scenario
+from vrusim.scenario.schema import Ego, Route, Scenario
 
 VUT: dict[str, Any] = {
     "length_m": 4.5,
@@ -153,22 +153,27 @@ def _crossing(samples: np.ndarray, lead_m: float, lateral_m: float, point, direc
     return (i + frac) * spacing, edge[i] + frac * (edge[i + 1] - edge[i])
 
 
-def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
-    """Route mapping: `approach_m` straight, the protocol's turn for this side and speed, `after_m` straight."""
-    path = TURN_PATHS[(test.spec.turn, test.cell.vut_speed_kph)]
-    alpha = math.radians(path.clothoid_angle_deg)
-    turn_length = 4 * alpha / (1 / path.entry_radius_m + 1 / path.radius_m) + path.radius_m * math.radians(
-        path.arc_angle_deg
-    )
-    return {
-        "kind": "left" if test.spec.turn == "farside" else "right",
-        "turn_at_m": approach_m,
+def ncap_turn_route(side: str, speed_kph: float, turn_at_m: float, exit_m: float) -> Route:
+    """The protocol's turning route for `side` ("farside" = left, "nearside" = right) at `speed_kph`:
+    `turn_at_m` of straight approach, the clothoid – arc – clothoid turn, `exit_m` of straight exit."""
+    if (side, speed_kph) not in TURN_PATHS:
+        raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph:g} km/h; known: {sorted(TURN_PATHS)}")
+    path = TURN_PATHS[side, speed_kph]
+    fields = {
+        "kind": "left" if side == "farside" else "right",
+        "turn_at_m": turn_at_m,
         "radius_m": path.radius_m,
         "angle_deg": path.arc_angle_deg,
         "clothoid_angle_deg": path.clothoid_angle_deg,
         "clothoid_entry_radius_m": path.entry_radius_m,
-        "length_m": approach_m + turn_length + after_m,
     }
+    turn_length = Route(**fields, length_m=1e12).turn_length_m
+    return Route(**fields, length_m=turn_at_m + turn_length + exit_m)
+
+
+def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
+    """Route mapping of a turning test: `approach_m` straight, the protocol turn, `after_m` straight."""
+    return ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, approach_m, after_m).model_dump()
 
 
 def _target_line(test: NcapTest) -> tuple[tuple[float, float], tuple[float, float]]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal, NamedTuple
 
 import numpy as np
 from numba import njit
@@ -222,45 +221,6 @@ def route_spec(route: Route, x0_m: float, y0_m: float, heading0_rad: float) -> P
     exit_length = route.length_m - route.turn_at_m - sum(piece.length_m for piece in turn)
     pieces = tuple(p for p in (Line(route.turn_at_m), *turn, Line(exit_length)) if p.length_m > 0)
     return PathSpec(x0_m, y0_m, heading0_rad, pieces)
-
-
-class NcapTurn(NamedTuple):
-    """One Euro NCAP turning path: clothoid entry radius R1, arc radius R2 (m), clothoid and arc angles (deg)."""
-
-    entry_radius_m: float
-    radius_m: float
-    clothoid_angle_deg: float
-    arc_angle_deg: float
-
-
-NCAP_TURNS: dict[tuple[str, int], NcapTurn] = {
-    ("farside", 10): NcapTurn(1500.0, 9.00, 20.62, 48.75),
-    ("farside", 15): NcapTurn(1500.0, 11.75, 20.93, 48.14),
-    ("farside", 20): NcapTurn(1500.0, 14.75, 21.79, 46.42),
-    ("nearside", 10): NcapTurn(1500.0, 8.00, 22.85, 44.30),
-}
-"""Euro NCAP AEB VRU v4.5.1 turning paths by (side, ego speed in km/h). Traffic keeps right here, so a
-farside turn is a left turn and a nearside turn a right turn."""
-
-
-def ncap_turn_route(side: Literal["farside", "nearside"], speed_kph: int, turn_at_m: float, exit_m: float) -> Route:
-    """The Euro NCAP turning route for `side` at `speed_kph` (a key of `NCAP_TURNS`).
-
-    `turn_at_m` of straight approach before the first clothoid and `exit_m` of straight exit after the second.
-    """
-    if (side, speed_kph) not in NCAP_TURNS:
-        raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph} km/h; known: {sorted(NCAP_TURNS)}")
-    turn = NCAP_TURNS[side, speed_kph]
-    fields = {
-        "kind": "left" if side == "farside" else "right",
-        "turn_at_m": turn_at_m,
-        "radius_m": turn.radius_m,
-        "angle_deg": turn.arc_angle_deg,
-        "clothoid_angle_deg": turn.clothoid_angle_deg,
-        "clothoid_entry_radius_m": turn.entry_radius_m,
-    }
-    turn_length = Route(**fields, length_m=1e12).turn_length_m
-    return Route(**fields, length_m=turn_at_m + turn_length + exit_m)
 
 
 def ego_route_spec(ego: Ego) -> PathSpec:
