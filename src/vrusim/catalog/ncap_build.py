@@ -308,6 +308,7 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
         impact_time = brake_after + min(catch_up, v / spec.target_decel_mps2)
         travelled = v * impact_time - 0.5 * spec.target_decel_mps2 * (impact_time - brake_after) ** 2
         impact = start + np.array([travelled, 0.0])
+        ego["route"]["length_m"] = float(impact[0] - front_x0) + EXIT_LENGTH_M
         vru.update(
             top_speed_mps=v,
             initial_speed_mps=v,
@@ -334,9 +335,9 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
             },
             "planner": {"name": planner},
             "vrus": [vru],
-            "obstacles": obstruction_cars(spec.obstruction, point, test.dummy) if spec.obstruction else [],
             "sim": {"dt_s": 0.01, "duration_s": round(impact_time + TAIL_TIME_S, 2)},
         }
+        | ({"obstacles": obstruction_cars(spec.obstruction, point, test.dummy)} if spec.obstruction else {})
     )
     nominal = Nominal(
         float(impact[0]), float(impact[1]), impact_time, lateral, centre_ahead, heading, max(steady_from, 0.0)
