@@ -1,0 +1,151 @@
+"""Euro NCAP VRU scoring knowledge as plain data: colour bands, sub-scores, FCW rule, group caps, point split.
+
+Data only: metrics/ncap.py applies it. Speeds here are in km/h (`_kph`) because the protocol states them so;
+the assessment converts the simulator's m/s once on entry. Derivations and sources are in
+docs/euroncap_scoring.md; the spec is shared/reference/euroncap_vru.md (§6). Anything the spec marks
+UNVERIFIED carries an `unverified` note here and in the docs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+COLOURS = ("green", "yellow", "orange", "brown", "red")
+"""Euro NCAP result colours, best first."""
+
+SUB_SCORES: dict[str, float] = {"green": 1.00, "yellow": 0.75, "orange": 0.50, "brown": 0.25, "red": 0.0}
+"""Cell sub-score per colour (standard range; FC26 §5.3, R26 `predicted_score`)."""
+
+BANDS_KPH: tuple[tuple[float, tuple[tuple[float, str], ...]], ...] = (
+    (10.0, ((0.0, "green"), (math.inf, "red"))),
+    (20.0, ((0.0, "green"), (math.inf, "red"))),
+    (30.0, ((0.0, "green"), (10.0, "brown"), (math.inf, "red"))),
+    (40.0, ((0.0, "green"), (10.0, "orange"), (20.0, "brown"), (math.inf, "red"))),
+    (50.0, ((0.0, "green"), (10.0, "yellow"), (20.0, "orange"), (30.0, "brown"), (math.inf, "red"))),
+)
+"""Colour bands by VUT test speed: (row speed, ((upper bound of relative impact speed, colour), ...)).
+
+A relative impact speed v takes the first colour with v <= bound (intervals (-inf, 0], (0, b1], ...).
+A test speed uses the row of the largest tabulated speed <= it (our choice for the 5 km/h v4.5.1 grid:
+15 -> 10, 25 -> 20, 35 -> 30, 45 -> 40, >= 50 -> 50). Values: 2026 table (FC26 §5.2, R26); the v4.5.1
+thresholds are UNVERIFIED, so we use the 2026 ones.
+"""
+BANDS_UNVERIFIED = "UNVERIFIED: v4.5.1 thresholds unknown, 2026 (FC26/R26) bands used"
+
+MIN_BANDED_SPEED_KPH = 10.0
+"""Below this test speed (reversing CPRA at 4 and 8 km/h) a test is judged avoidance-only: green or red."""
+
+FCW_MIN_TTC_S = 1.7
+"""FCW rows: green when the warning comes at TTC >= this, else red (FC26 §5.2)."""
+
+FCW_FALLBACK_LABEL = "AEB fallback (planner issues no warnings)"
+"""Criterion of an FCW row judged by the AEB bands (FC26 allows FCW or AEB-declared for these rows)."""
+
+EURO_NCAP_GROUPS = ("pedestrian", "cyclist", "motorcyclist")
+"""Groups counted in the Euro NCAP total."""
+EXTENSION_GROUPS = ("escooter",)
+"""Our extension groups: scored with the same bands, reported separately, never in the Euro NCAP total."""
+
+GROUP_CAPS: dict[str, float] = {"pedestrian": 9.0, "cyclist": 8.0, "motorcyclist": 6.0}
+"""Maximum points per group, rating years 2023-2025 (verified from Euro NCAP result data, spec §6.1)."""
+
+
+@dataclass(frozen=True)
+class PointsEntry:
+    """Points of one (scenario code, lighting): a share of an FC26 points item, scaled to the 2023-2025 cap.
+
+    `fc26_points` are the FC26 standard + extended points of `family` at this lighting (robustness points
+    left out); `cells` / `family_cells` is this code's share of the family, by nominal v4.5.1 grid cells
+    (so that a full grid scores like FC26's one matrix per family).
+    """
+
+    scenario: str
+    lighting: str
+    group: str
+    family: str
+    fc26_points: float
+    cells: int
+    family_cells: int
+    unverified: str = ""
+
+    @property
+    def weight(self) -> float:
+        """FC26-equivalent weight of this code: its cell share of the family points."""
+        return self.fc26_points * self.cells / self.family_cells
+
+
+_SPLIT = "2023-2025 split unknown, FC26 proportion scaled to the cap"
+_CPRA = "not in FC26, assumed weight 1.15625 so that CPRA gets 1 of the 9 pedestrian points"
+_CBTA = "v4.5.1 CBTA grid unknown, FC26 grid (farside 10/15/20, nearside 10) assumed"
+_NIGHT = "night test in v4.5.1 unknown (FC26 has it)"
+_GRID = "v4.5.1 grid unknown (FC26 values)"
+
+
+def _flag(*reasons: str) -> str:
+    return "UNVERIFIED: " + "; ".join(reasons)
+
+
+_ENTRIES: tuple[PointsEntry, ...] = (
+    # pedestrian: CPLA day/night 1.0 + 0.125 each; AEB 50 % 20:5:60 (9 cells) + FCW 25 % 50:5:80 (7 cells)
+    PointsEntry("CPLA-50", "day", "pedestrian", "CPLA", 1.125, 9, 16, _flag(_SPLIT)),
+    PointsEntry("CPLA-25", "day", "pedestrian", "CPLA", 1.125, 7, 16, _flag(_SPLIT)),
+    PointsEntry("CPLA-50", "night", "pedestrian", "CPLA", 1.125, 9, 16, _flag(_SPLIT)),
+    PointsEntry("CPLA-25", "night", "pedestrian", "CPLA", 1.125, 7, 16, _flag(_SPLIT, _NIGHT)),
+    # CPTA 2.5 (day): farside fs/fo at 10/15/20, nearside ns/no at 10
+    PointsEntry("CPTAfs", "day", "pedestrian", "CPTA", 2.5, 3, 8, _flag(_SPLIT)),
+    PointsEntry("CPTAfo", "day", "pedestrian", "CPTA", 2.5, 3, 8, _flag(_SPLIT)),
+    PointsEntry("CPTAns", "day", "pedestrian", "CPTA", 2.5, 1, 8, _flag(_SPLIT)),
+    PointsEntry("CPTAno", "day", "pedestrian", "CPTA", 2.5, 1, 8, _flag(_SPLIT)),
+    # crossing: CPNA and CPFA 0.5 + 0.0625 per lighting, CPNCO 1.0 + 0.125 per lighting; 10:5:60 (11 cells)
+    PointsEntry("CPNA-25", "day", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
+    PointsEntry("CPNA-75", "day", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
+    PointsEntry("CPNA-25", "night", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
+    PointsEntry("CPNA-75", "night", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
+    PointsEntry("CPFA-50", "day", "pedestrian", "CPFA", 0.5625, 11, 11, _flag(_SPLIT)),
+    PointsEntry("CPFA-50", "night", "pedestrian", "CPFA", 0.5625, 11, 11, _flag(_SPLIT, _NIGHT)),
+    PointsEntry("CPNCO-50", "day", "pedestrian", "CPNCO", 1.125, 11, 11, _flag(_SPLIT)),
+    PointsEntry("CPNCO-50", "night", "pedestrian", "CPNCO", 1.125, 11, 11, _flag(_SPLIT)),
+    # reverse (LSC26 in 2026, no FC26 points): Cm 2 cells (4/adult, 8/child), Cs 6 cells
+    PointsEntry("CPRA-Cm", "day", "pedestrian", "CPRA", 1.15625, 2, 8, _flag(_CPRA)),
+    PointsEntry("CPRA-Cs", "day", "pedestrian", "CPRA", 1.15625, 6, 8, _flag(_CPRA)),
+    # cyclist: CBLA 2.0 + 0.25 (day); AEB 50 % 25:5:60 (8 cells) + FCW 25 % 50:5:80 (7 cells)
+    PointsEntry("CBLA-50", "day", "cyclist", "CBLA", 2.25, 8, 15, _flag(_SPLIT)),
+    PointsEntry("CBLA-25", "day", "cyclist", "CBLA", 2.25, 7, 15, _flag(_SPLIT)),
+    PointsEntry("CBTAfs", "day", "cyclist", "CBTA", 2.5, 3, 8, _flag(_SPLIT, _CBTA)),
+    PointsEntry("CBTAfo", "day", "cyclist", "CBTA", 2.5, 3, 8, _flag(_SPLIT, _CBTA)),
+    PointsEntry("CBTAns", "day", "cyclist", "CBTA", 2.5, 1, 8, _flag(_SPLIT, _CBTA)),
+    PointsEntry("CBTAno", "day", "cyclist", "CBTA", 2.5, 1, 8, _flag(_SPLIT, _CBTA)),
+    PointsEntry("CBNA-50", "day", "cyclist", "CBNA", 1.25, 11, 11, _flag(_SPLIT)),
+    PointsEntry("CBFA-50", "day", "cyclist", "CBFA", 1.25, 11, 11, _flag(_SPLIT)),
+    PointsEntry("CBNAO-50", "day", "cyclist", "CBNAO", 2.5, 11, 11, _flag(_SPLIT)),
+    # motorcyclist: CMRs 1.5, CMRb 2.0, CMFtap 5.0 (one code per family, so the cell counts do not matter)
+    PointsEntry("CMRs", "day", "motorcyclist", "CMRs", 1.5, 1, 1, _flag(_SPLIT, _GRID)),
+    PointsEntry("CMRb", "day", "motorcyclist", "CMRb", 2.0, 1, 1, _flag(_SPLIT, _GRID)),
+    PointsEntry("CMFtap", "day", "motorcyclist", "CMFtap", 5.0, 1, 1, _flag(_SPLIT)),
+)
+
+ESCOOTER_POINTS_PER_SCENARIO = 1.0
+"""Nominal frame of our e-scooter extension: 1 point per (scenario, lighting); not Euro NCAP points."""
+ESCOOTER_NOTE = "EXTENSION: not a Euro NCAP test; nominal 1 point per scenario, outside the Euro NCAP total"
+_ESCOOTER_ENTRIES: tuple[PointsEntry, ...] = tuple(
+    PointsEntry(code, lighting, "escooter", code, ESCOOTER_POINTS_PER_SCENARIO, 1, 1, ESCOOTER_NOTE)
+    for code in ("CENA-50", "CEFA-50", "CELA-50", "CETAfs")
+    for lighting in ("day", "night")
+)
+
+
+def _scaled_points(entries: tuple[PointsEntry, ...]) -> dict[tuple[str, str], float]:
+    """Points per (scenario, lighting): weight x cap / sum of the group's weights (escooter: weight itself)."""
+    totals: dict[str, float] = {}
+    for entry in entries:
+        totals[entry.group] = totals.get(entry.group, 0.0) + entry.weight
+    scale = {group: GROUP_CAPS[group] / total if group in GROUP_CAPS else 1.0 for group, total in totals.items()}
+    return {(e.scenario, e.lighting): e.weight * scale[e.group] for e in entries}
+
+
+POINTS_ENTRIES: dict[tuple[str, str], PointsEntry] = {(e.scenario, e.lighting): e for e in _ENTRIES + _ESCOOTER_ENTRIES}
+"""Every scored (scenario, lighting) with its derivation inputs and UNVERIFIED note."""
+
+SCENARIO_POINTS: dict[tuple[str, str], float] = _scaled_points(_ENTRIES + _ESCOOTER_ENTRIES)
+"""Points per (scenario code, lighting); Euro NCAP groups sum to their cap. Split UNVERIFIED (docs)."""
