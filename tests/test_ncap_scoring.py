@@ -236,7 +236,8 @@ def test_points_split_hand_computed():
     assert SCENARIO_POINTS[("CPTAfs", "day")] == pytest.approx(2.5 * 3 / 8 * 9 / 10.40625)
     assert SCENARIO_POINTS[("CBNAO-50", "day")] == pytest.approx(2.5 * 8 / 9.75)
     assert SCENARIO_POINTS[("CBLA-50", "day")] == pytest.approx(2.25 * 8 / 15 * 8 / 9.75)
-    assert SCENARIO_POINTS[("CMRs", "day")] == pytest.approx(1.5 * 6 / 8.5)
+    assert SCENARIO_POINTS[("CMRs", "day")] == pytest.approx(1.5 * 5 / 8 * 6 / 8.5)
+    assert SCENARIO_POINTS[("CMRs-FCW", "day")] == pytest.approx(1.5 * 3 / 8 * 6 / 8.5)
     assert SCENARIO_POINTS[("CMRb", "day")] == pytest.approx(2.0 * 6 / 8.5)
     assert SCENARIO_POINTS[("CMFtap", "day")] == pytest.approx(5.0 * 6 / 8.5)
     assert SCENARIO_POINTS[("CENA-50", "day")] == 1.0

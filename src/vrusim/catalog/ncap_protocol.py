@@ -255,8 +255,9 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         side="ahead",
         accel_distance_m=1.0,
         steady_distance_m=10.0,
-        unverified=("FCW-only vs FCW-or-AEB wording",),
-        sources="V23; Q451 (50-80); FC26",
+        lighting=("day", "night"),
+        unverified=("FCW-only vs FCW-or-AEB wording", "night variant"),
+        sources="V23; Q451 (50-80); FC26; RES (CPLA day/night)",
     ),
     NcapScenario(
         "CPTAfs",

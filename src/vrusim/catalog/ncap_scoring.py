@@ -119,8 +119,10 @@ _ENTRIES: tuple[PointsEntry, ...] = (
     PointsEntry("CBNA-50", "day", "cyclist", "CBNA", 1.25, 11, 11, _flag(_SPLIT)),
     PointsEntry("CBFA-50", "day", "cyclist", "CBFA", 1.25, 11, 11, _flag(_SPLIT)),
     PointsEntry("CBNAO-50", "day", "cyclist", "CBNAO", 2.5, 11, 11, _flag(_SPLIT)),
-    # motorcyclist: CMRs 1.5, CMRb 2.0, CMFtap 5.0 (one code per family, so the cell counts do not matter)
-    PointsEntry("CMRs", "day", "motorcyclist", "CMRs", 1.5, 1, 1, _flag(_SPLIT, _GRID)),
+    # motorcyclist: CMRs 1.5, CMRb 2.0, CMFtap 5.0
+    # CMRs: AEB rows 10:10:50 (5 cells, code CMRs) and FCW rows 60:10:80 (3 cells, code CMRs-FCW)
+    PointsEntry("CMRs", "day", "motorcyclist", "CMRs", 1.5, 5, 8, _flag(_SPLIT, _GRID)),
+    PointsEntry("CMRs-FCW", "day", "motorcyclist", "CMRs", 1.5, 3, 8, _flag(_SPLIT, _GRID)),
     PointsEntry("CMRb", "day", "motorcyclist", "CMRb", 2.0, 1, 1, _flag(_SPLIT, _GRID)),
     PointsEntry("CMFtap", "day", "motorcyclist", "CMFtap", 5.0, 1, 1, _flag(_SPLIT)),
 )
