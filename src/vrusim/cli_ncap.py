@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import itertools
+import time
+from dataclasses import asdict
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich import box
+from rich.markup import escape
 from rich.table import Table
 
-from vrusim.cli_support import V2XSwitch, console, print_json
+from vrusim.cli_support import V2XSwitch, console, print_json, user_errors
 from vrusim.errors import UserInputError
 
 
@@ -103,4 +106,61 @@ def ncap(
     as_json: Annotated[bool, typer.Option("--json", help="Print the assessment as one JSON document.")] = False,
 ) -> None:
     """Run the Euro NCAP AEB VRU grid in one batch and assess it the way Euro NCAP would."""
-    raise UserInputError("not implemented yet")
+    with user_errors():
+        from vrusim.catalog.ncap import run_tests, select
+        from vrusim.metrics.ncap import assess
+        from vrusim.planners.registry import make_planner
+
+        if out is not None and out.exists() and not out.is_dir():
+            raise UserInputError(f"--out: {out} exists and is not a folder")
+        try:
+            make_planner(planner)
+        except UserInputError as error:
+            raise UserInputError(str(error).replace("planner.name:", "--planner:", 1)) from None
+        tests = select(scenario or [], night=night)
+        started = time.perf_counter()
+        result = run_tests(tests, planner=planner, v2x=v2x == V2XSwitch.on)
+        elapsed = time.perf_counter() - started
+        assessment = assess(result.rows)
+        rows = result_rows(result.rows, assessment)
+        written = write_outputs(out, rows, assessment) if out is not None else []
+    if as_json:
+        print_json({"planner": planner, "v2x": v2x.value, "night": night, "assessment": assessment.to_dict()})
+        return
+    from vrusim.viz.scorecard import scorecard_renderables
+
+    terminal = console()
+    for renderable in scorecard_renderables(assessment):
+        terminal.print(renderable)
+    terminal.print(
+        f"{len(rows)} tests, planner {planner}, V2X {v2x.value}: simulated in one batch in {elapsed:.2f} s "
+        f"({result.run.steps} steps)."
+    )
+    for path in written:
+        terminal.print(f"Wrote {escape(str(path))}")
+
+
+def result_rows(run_rows: list[dict], assessment) -> list[dict]:
+    """One row per test: the simulation's row joined with its assessment (colour, points, speeds in km/h)."""
+    assessed = {test.test_id: asdict(test) for test in assessment.tests}
+    return [row | assessed[row["test_id"]] for row in run_rows]
+
+
+def write_outputs(folder: Path, rows: list[dict], assessment) -> list[Path]:
+    """results.csv, results.parquet and scorecard.png in `folder` (created if needed), each written atomically."""
+    import pyarrow as pa
+    import pyarrow.csv as pa_csv
+    import pyarrow.parquet as pq
+
+    from vrusim.atomic_io import write_atomically
+    from vrusim.viz.scorecard import write_scorecard_png
+
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise UserInputError(f"--out: cannot create {folder} ({error.strerror})") from None
+    table = pa.Table.from_pylist(rows)
+    csv_path = write_atomically(folder / "results.csv", lambda temp: pa_csv.write_csv(table, temp), "results")
+    parquet_path = write_atomically(folder / "results.parquet", lambda temp: pq.write_table(table, temp), "results")
+    png_path = write_scorecard_png(assessment, folder / "scorecard.png")
+    return [csv_path, parquet_path, png_path]

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from vrusim.catalog.ncap_protocol import SCENARIOS
+
 COLOURS = ("green", "yellow", "orange", "brown", "red")
 """Euro NCAP result colours, best first."""
 
@@ -131,9 +133,10 @@ ESCOOTER_POINTS_PER_SCENARIO = 1.0
 """Nominal frame of our e-scooter extension: 1 point per (scenario, lighting); not Euro NCAP points."""
 ESCOOTER_NOTE = "EXTENSION: not a Euro NCAP test; nominal 1 point per scenario, outside the Euro NCAP total"
 _ESCOOTER_ENTRIES: tuple[PointsEntry, ...] = tuple(
-    PointsEntry(code, lighting, "escooter", code, ESCOOTER_POINTS_PER_SCENARIO, 1, 1, ESCOOTER_NOTE)
-    for code in ("CENA-50", "CEFA-50", "CELA-50", "CETAfs")
-    for lighting in ("day", "night")
+    PointsEntry(spec.code, lighting, "escooter", spec.code, ESCOOTER_POINTS_PER_SCENARIO, 1, 1, ESCOOTER_NOTE)
+    for spec in SCENARIOS
+    if spec.group == "escooter"
+    for lighting in spec.lighting
 )
 
 
