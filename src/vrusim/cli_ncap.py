@@ -36,7 +36,7 @@ def catalogue_listing() -> list[dict]:
             "description": s.description,
             "function": s.function,
             "target": s.target,
-            "target_speed_kph": round(s.target_speed_kph, 3),
+            "target_speeds_kph": _target_speeds(s),
             "vut_speeds_kph": sorted({c.vut_speed_kph for c in s.cells}),
             "variants": [c.variant for c in s.cells if c.variant],
             "impact_location_pct": round(100 * s.impact_location),
@@ -49,6 +49,14 @@ def catalogue_listing() -> list[dict]:
         }
         for s in SCENARIOS
     ]
+
+
+def _target_speeds(spec) -> list[float] | str:
+    """Target speeds of a scenario's grid, km/h; "vut" when the target drives at the VUT's speed (CMRb)."""
+    if spec.headway_s > 0:
+        return "vut"
+    return sorted({round(c.target_speed_kph if c.target_speed_kph is not None else spec.target_speed_kph, 2)
+                   for c in spec.cells})  # fmt: skip
 
 
 def list_catalogue(
@@ -71,7 +79,7 @@ def list_catalogue(
             row["group"],
             row["function"],
             row["target"],
-            f"{row['target_speed_kph']:g}",
+            "= VUT" if row["target_speeds_kph"] == "vut" else "/".join(f"{v:g}" for v in row["target_speeds_kph"]),
             _speed_grid(row["vut_speeds_kph"]),
             str(row["impact_location_pct"]),
             "/".join(row["lighting"]),

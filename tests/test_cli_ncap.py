@@ -1,0 +1,103 @@
+"""`vrusim ncap` and `vrusim list`: outputs, their agreement with each other, and user errors (exit code 2)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pyarrow.csv as pa_csv
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from vrusim.catalog.ncap import select
+from vrusim.catalog.ncap_protocol import SCENARIOS
+from vrusim.cli import app
+
+runner = CliRunner()
+
+
+def invoke(*args: str):
+    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
+
+
+def assert_user_error(result, *names: str) -> None:
+    assert result.exit_code == 2, result.output
+    for name in names:
+        assert name in result.output, (name, result.output)
+    assert "Traceback" not in result.output
+    assert result.stdout == ""
+
+
+@pytest.fixture(scope="module")
+def ncap_out(tmp_path_factory):
+    """`vrusim ncap --scenario CPNA-75 --scenario CPTA --night --out DIR --json`: the JSON and the folder."""
+    folder = tmp_path_factory.mktemp("ncap") / "out"
+    result = invoke("ncap", "--scenario", "CPNA-75", "--scenario", "CPTA", "--night", "--out", folder, "--json")
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout), folder
+
+
+def test_ncap_writes_rows_that_match_the_assessment(ncap_out):
+    document, folder = ncap_out
+    assert sorted(p.name for p in folder.iterdir()) == ["results.csv", "results.parquet", "scorecard.png"]
+    expected = {t.test_id for t in select(["CPNA-75", "CPTA"], night=True)}
+    tests = {t["test_id"]: t for t in document["assessment"]["tests"]}
+    assert set(tests) == expected
+    csv_rows = pa_csv.read_csv(folder / "results.csv").to_pylist()
+    parquet_rows = pq.read_table(folder / "results.parquet").to_pylist()
+    assert [r["test_id"] for r in csv_rows] == [r["test_id"] for r in parquet_rows]
+    assert {r["test_id"] for r in parquet_rows} == expected
+    for row in parquet_rows:
+        assessed = tests[row["test_id"]]
+        assert row["colour"] == assessed["colour"]
+        assert row["sub_score"] == assessed["sub_score"]
+        assert row["collided"] == assessed["collided"]
+        assert row["planner"] == "fsm" and row["v2x"] is False
+        for value in row.values():
+            assert not (isinstance(value, float) and math.isnan(value))
+    assert (folder / "scorecard.png").stat().st_size > 10_000
+
+
+def test_ncap_terminal_grid_lists_every_selected_scenario():
+    result = invoke("ncap", "--scenario", "CPRA")
+    assert result.exit_code == 0, result.output
+    for code in ("CPRA-Cm", "CPRA-Cs"):
+        assert code in result.stdout
+    assert "Total" in result.stdout
+    assert "tests, planner fsm, V2X off" in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "names"),
+    [
+        (["--scenario", "XYZ-99"], ["--scenario", "XYZ-99"]),
+        (["--planner", "nonsense"], ["--planner", "nonsense"]),
+        (["--planner", "no_such_module:Planner"], ["--planner"]),
+    ],
+)
+def test_ncap_bad_options_are_user_errors(args, names):
+    assert_user_error(invoke("ncap", *args), *names)
+
+
+def test_ncap_out_that_is_a_file_is_a_user_error(tmp_path):
+    target = tmp_path / "taken"
+    target.write_text("keep me")
+    assert_user_error(invoke("ncap", "--scenario", "CPTAns", "--out", target), "--out", "taken")
+    assert target.read_text() == "keep me"
+
+
+def test_list_shows_every_entry_and_its_flags():
+    result = invoke("list", "--json")
+    assert result.exit_code == 0, result.output
+    rows = json.loads(result.stdout)
+    assert [r["code"] for r in rows] == [s.code for s in SCENARIOS]
+    by_code = {r["code"]: r for r in rows}
+    assert by_code["CENA-50"]["extension"] is True
+    assert by_code["CPNA-25"]["extension"] is False
+    assert by_code["CBTAfs"]["unverified"]
+    assert by_code["CPNCO-50"]["obstruction"] == "CPNCO"
+    assert by_code["CPNA-25"]["vut_speeds_kph"] == [10.0 + 5 * i for i in range(11)]
+    text = invoke("list")
+    assert text.exit_code == 0
+    assert "CPNCO-50" in text.stdout and "unverified" in text.stdout
