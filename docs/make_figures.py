@@ -1,6 +1,6 @@
 """Draw the README figure: ego speed and planner state over time in the paper's six runs.
 
-Run: pip install -e ".[docs]" && python docs/make_figures.py   (writes docs/img/paper_timelines.png)
+Run: python docs/make_figures.py   (writes docs/img/paper_timelines.png)
 """
 
 from __future__ import annotations

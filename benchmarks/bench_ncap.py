@@ -1,0 +1,74 @@
+"""The whole Euro NCAP catalogue grid (all families × speeds × day/night) as one batch: wall time and rate.
+
+Run: python benchmarks/bench_ncap.py [--planner fsm] [--repeats 3]
+
+Times, best of the repeats and after a warm-up that loads the compiled kernels: building the Scenarios
+from the protocol tables, the batch run (packing + stepping), and the assessment; for V2X off and on.
+The goal on a 2-core machine is the whole grid in under 5 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import time
+
+
+def measure(planner: str, v2x: bool, repeats: int) -> dict:
+    """Best-of-`repeats` timings of build, run and assessment for the whole day + night grid."""
+    from vrusim.catalog.ncap import run_tests, select
+    from vrusim.catalog.ncap_build import build_test
+    from vrusim.metrics.ncap import assess
+
+    tests = select(night=True)
+    run_tests(tests[:3], planner=planner, v2x=v2x)  # warm-up: compiled kernels from the cache
+    best = {"build_s": float("inf"), "total_s": float("inf"), "assess_s": float("inf")}
+    steps = 0
+    for _ in range(repeats):
+        started = time.perf_counter()
+        for test in tests:
+            build_test(test, planner, v2x)
+        best["build_s"] = min(best["build_s"], time.perf_counter() - started)
+        started = time.perf_counter()
+        result = run_tests(tests, planner=planner, v2x=v2x)
+        best["total_s"] = min(best["total_s"], time.perf_counter() - started)
+        started = time.perf_counter()
+        assessment = assess(result.rows)
+        best["assess_s"] = min(best["assess_s"], time.perf_counter() - started)
+        steps = result.run.steps
+    return {
+        "planner": planner,
+        "v2x": v2x,
+        "tests": len(tests),
+        "steps": steps,
+        "build_s": round(best["build_s"], 3),
+        "build_and_run_s": round(best["total_s"], 3),
+        "assess_s": round(best["assess_s"], 3),
+        "scenario_steps_per_s": round(len(tests) * steps / best["total_s"]),
+        "euro_ncap_points": round(assessment.total, 3),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--planner", default="fsm")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    figures = [measure(args.planner, v2x, args.repeats) for v2x in (False, True)]
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    if args.json:
+        print(json.dumps({"runs": figures, "peak_rss_mb": round(peak_mb, 1)}, indent=2))
+        return
+    for f in figures:
+        print(
+            f"planner {f['planner']}, V2X {'on ' if f['v2x'] else 'off'}: {f['tests']} tests x {f['steps']} steps "
+            f"in {f['build_and_run_s']:.2f} s (build {f['build_s']:.2f} s), assessment {f['assess_s']:.3f} s, "
+            f"{f['scenario_steps_per_s']:,} scenario-steps/s, {f['euro_ncap_points']} Euro NCAP points"
+        )
+    print(f"peak RSS {peak_mb:.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
