@@ -171,6 +171,39 @@ class Ego(_Frozen):
         return self.rear_overhang_m
 
 
+class Obstacle(_Frozen):
+    """A static box (e.g. a parked car) that blocks the onboard sensor's line of sight; it never collides."""
+
+    kind: str = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
+    centre: Pose = Field(description="centre of the rectangle; heading_deg along its length")
+    length_m: float = Field(gt=0)
+    width_m: float = Field(gt=0)
+
+    def overlaps(self, pose: Pose, length_m: float, width_m: float) -> bool:
+        """Whether this box shares interior points with the rectangle `length_m × width_m` centred at `pose`."""
+        mine = _corners(self.centre, self.length_m, self.width_m)
+        other = _corners(pose, length_m, width_m)
+        for corners in (mine, other):  # separating-axis test on the edge directions of both rectangles
+            (x0, y0), (x1, y1), (x2, y2) = corners[:3]
+            for ax, ay in ((x1 - x0, y1 - y0), (x2 - x0, y2 - y0)):
+                a = [x * ax + y * ay for x, y in mine]
+                b = [x * ax + y * ay for x, y in other]
+                if max(a) <= min(b) or max(b) <= min(a):
+                    return False
+        return True
+
+
+def _corners(pose: Pose, length_m: float, width_m: float) -> list[tuple[float, float]]:
+    """Corners of a rectangle centred at `pose`: rear-right, rear-left, front-right, front-left."""
+    heading = math.radians(pose.heading_deg)
+    c, s = math.cos(heading), math.sin(heading)
+    return [
+        (pose.x_m + c * u * length_m / 2 - s * v * width_m / 2, pose.y_m + s * u * length_m / 2 + c * v * width_m / 2)
+        for u in (-1, 1)
+        for v in (-1, 1)
+    ]
+
+
 class Sensor(_Frozen):
     """Onboard sector sensor with its apex at the centre of the front bumper."""
 
@@ -326,6 +359,7 @@ class Scenario(_Frozen):
     v2x: V2X = V2X()
     planner: PlannerSpec = PlannerSpec()
     vrus: list[Vru] = Field(min_length=1, max_length=64)
+    obstacles: list[Obstacle] = Field(default_factory=list, max_length=16)
     sim: SimSettings = SimSettings()
     metrics: MetricsSettings = MetricsSettings()
 
@@ -345,6 +379,17 @@ class Scenario(_Frozen):
             if math.hypot(gap_x, gap_y) <= vru.footprint_m:
                 raise ValueError(f"vrus[{index}] starts overlapping the ego vehicle")
         return vrus
+
+    @field_validator("obstacles")
+    @classmethod
+    def _obstacles_clear_of_ego(cls, obstacles: list[Obstacle], info: Any) -> list[Obstacle]:
+        ego = info.data.get("ego")
+        if ego is None:
+            return obstacles
+        for index, box in enumerate(obstacles):
+            if box.overlaps(ego.start, ego.length_m, ego.width_m):
+                raise ValueError(f"obstacles[{index}] overlaps the ego vehicle's start rectangle")
+        return obstacles
 
     def with_v2x(self, enabled: bool) -> Scenario:
         """A copy with V2X switched on or off (validated again)."""

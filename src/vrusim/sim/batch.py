@@ -10,6 +10,7 @@ import numpy as np
 from vrusim.errors import UserInputError
 from vrusim.scenario.paths import Line, PathSpec, PathTable, ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
+from vrusim.sim.occlusion import ObstacleArrays, pack_obstacles
 
 TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
 _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
@@ -49,6 +50,7 @@ class BatchParams:
     sensor_range_m: np.ndarray
     sensor_cos_half: np.ndarray
     sensor_sin_half: np.ndarray
+    obstacles: ObstacleArrays  # count [B]; boxes [B, M], M = most obstacles in the batch; occlude the sensor only
     # v2x
     v2x_enabled: np.ndarray
     rsu_x_m: np.ndarray
@@ -182,6 +184,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         sensor_range_m=ego_array(lambda s: s.sensor.range_m),
         sensor_cos_half=np.cos(half_fov),
         sensor_sin_half=np.sin(half_fov),
+        obstacles=pack_obstacles([s.obstacles for s in scenarios]),
         v2x_enabled=np.array([s.v2x.enabled for s in scenarios]),
         rsu_x_m=ego_array(lambda s: s.v2x.rsu.x_m if s.v2x.rsu else 0.0),
         rsu_y_m=ego_array(lambda s: s.v2x.rsu.y_m if s.v2x.rsu else 0.0),

@@ -3,8 +3,9 @@
 The field of view is a circular sector with its apex at the centre of the front bumper, centred on the ego
 heading, of radius `range_m` and full opening angle `fov_deg`. A VRU counts as perceived in a step when any
 part of its footprint circle lies inside the sector, i.e. when the distance from its centre to the (filled)
-sector is at most its radius. The sensor is ideal: a perceived VRU's true position, velocity and acceleration
-are reported.
+sector is at most its radius, and some part of the footprint is in the apex's line of sight past the
+variant's static obstacles (`sim/occlusion.py`). The sensor is ideal: a perceived VRU's true position,
+velocity and acceleration are reported.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 from numba import njit, prange
 
 from vrusim.sim.kernels import batch_kernel
+from vrusim.sim.occlusion import ObstacleArrays, occlude
 
 
 @njit(cache=True, inline="always")
@@ -81,6 +83,8 @@ def sense(params, front_x: np.ndarray, front_y: np.ndarray, ego, vrus) -> np.nda
         params.vru_radius_m,
         out,
     )
+    if params.obstacles.x_m.shape[1]:  # some variant has obstacles (M > 0); the others are skipped inside
+        occlude(params.size, front_x, front_y, vrus.x_m, vrus.y_m, params.vru_radius_m, *params.obstacles, out)
     return out
 
 
@@ -98,7 +102,36 @@ def distance_to_sector(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, 
     return _distances(*apex, px2, py2).reshape(shape)
 
 
-def perceived(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half, px, py, radius, enabled):
-    """Which VRU footprints [B, K] intersect each ego's sensor sector."""
+def perceived(
+    apex_x,
+    apex_y,
+    heading_x,
+    heading_y,
+    range_m,
+    cos_half,
+    sin_half,
+    px,
+    py,
+    radius,
+    enabled,
+    obstacles: ObstacleArrays | None = None,
+):
+    """Which VRU footprints [B, K] intersect each ego's sensor sector and are in its line of sight.
+
+    `obstacles` (one row per variant, see `occlusion.pack_obstacles`) block the line of sight; None: none.
+    """
     gap = distance_to_sector(apex_x, apex_y, heading_x, heading_y, range_m, cos_half, sin_half, px, py)
-    return (gap <= radius) & np.asarray(enabled)[:, None]
+    seen = (gap <= radius) & np.asarray(enabled)[:, None]
+    if obstacles is None or not np.any(obstacles.count):
+        return seen
+    B = gap.shape[0]
+
+    def rows(a) -> np.ndarray:  # [B, K] float, contiguous
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(a, dtype=float), gap.shape)).reshape(B, -1)
+
+    apex = [np.ascontiguousarray(np.broadcast_to(_batch(a), (B,))) for a in (apex_x, apex_y)]
+    out = np.ascontiguousarray(seen).reshape(B, -1)
+    count = np.ascontiguousarray(obstacles.count, dtype=np.int64)
+    boxes = [np.ascontiguousarray(a, dtype=float) for a in obstacles[1:]]
+    occlude(B, *apex, rows(px), rows(py), rows(radius), count, *boxes, out)
+    return out.reshape(gap.shape)
