@@ -35,7 +35,7 @@ from vrusim.errors import UserInputError
 
 MPS_TO_KPH = 3.6
 """km/h per m/s."""
-KPH_DIGITS = 6
+KPH_DIGITS = 3
 """Speeds in km/h and TTCs are rounded to this many decimals before they meet a band edge (so 10 km/h
 converted from m/s is exactly 10.0, not 10.000000000000002)."""
 MITIGATION_TOLERANCE_KPH = 0.1
