@@ -1,6 +1,6 @@
-"""Draw the README figure: ego speed and planner state over time in the paper's six runs.
+"""Draw the README figures: the paper's six runs over time, and the FSM planner's Euro NCAP scorecard.
 
-Run: python docs/make_figures.py   (writes docs/img/paper_timelines.png)
+Run: python docs/make_figures.py   (writes docs/img/paper_timelines.png and docs/img/ncap_scorecard_fsm.png)
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from vrusim.metrics.summary import summary_rows
 from vrusim.sim.engine import simulate
 
 OUT = Path(__file__).parent / "img" / "paper_timelines.png"
+SCORECARD = Path(__file__).parent / "img" / "ncap_scorecard_fsm.png"
 MODE_COLOURS = {"cruise": "#e8f1e8", "pre_slow": "#fff2c6", "emergency_brake": "#f8d0d0", "follow": "#dbe7f7"}
 
 
@@ -84,5 +85,16 @@ def _spans(t: np.ndarray, mode: np.ndarray):
         yield t[a] - (t[1] - t[0]), t[b - 1], int(mode[a])
 
 
+def scorecard() -> None:
+    """The whole catalogue, day and night, FSM planner without V2X: `vrusim ncap --night --out DIR`."""
+    from vrusim.catalog.ncap import run_tests, select
+    from vrusim.metrics.ncap import assess
+    from vrusim.viz.scorecard import write_scorecard_png
+
+    assessment = assess(run_tests(select(night=True), planner="fsm", v2x=False).rows)
+    write_scorecard_png(assessment, SCORECARD, dpi=80)
+
+
 if __name__ == "__main__":
     main()
+    scorecard()
