@@ -16,6 +16,7 @@ from vrusim.catalog.ncap import run_tests, select
 from vrusim.catalog.ncap_build import VUT, build_test
 from vrusim.catalog.ncap_protocol import SCENARIOS
 from vrusim.metrics.ncap import assess
+from vrusim.scenario.paths import SAMPLE_SPACING_M, ego_route_spec, sample_path
 from vrusim.sim.engine import simulate
 
 TOLERANCE_M = 0.05
@@ -126,3 +127,60 @@ def test_cpnco_child_hidden_by_the_parked_cars_until_it_steps_into_view(speed_kp
     data["obstacles"] = []
     open_view = simulate([type(scenario).model_validate(data)])
     assert open_view.metrics.first_sensor_s[0] < first_detected * scenario.sim.dt_s
+
+
+def test_fcw_rows_are_judged_by_the_warning_of_a_planner_that_warns():
+    """A plug-in planner that warns on first detection and never brakes: FCW rows get green or red by the
+    TTC of that warning (>= 1.7 s), AEB rows collide and are judged by impact speed."""
+    tests = select(["CPLA-25", "CBLA-25"])
+    result = run_tests(tests, planner="warning_planner:WarnOnDetection")
+    assessment = assess(result.rows)
+    for row, assessed in zip(result.rows, assessment.tests, strict=True):
+        assert row["planner_warns"] is True
+        assert row["warning_ttc_s"] is not None and row["collided"]
+        assert assessed.criterion != "AEB fallback (planner issues no warnings)"
+        assert assessed.colour == ("green" if row["warning_ttc_s"] >= 1.7 else "red")
+    colours = {a.colour for a in assessment.tests}
+    assert colours == {"green", "red"}  # the 20 m sensor warns early enough at 50 km/h but not at 80 km/h
+
+
+def test_turns_end_on_the_centre_line_of_the_right_lane_of_the_road_turned_into():
+    for test in select(["CPTA", "CBTA", "CMFtap", "CETAfs"]):
+        ego = build_test(test, planner="none").scenario.ego
+        samples = sample_path(ego_route_spec(ego))
+        route = ego.route
+        end = samples[math.ceil((route.turn_at_m + route.turn_length_m) / SAMPLE_SPACING_M)]
+        expected_x = 1.75 if route.kind == "left" else -1.75
+        assert end[0] == pytest.approx(expected_x, abs=0.01), test.test_id
+        assert abs(end[2]) == pytest.approx(0.0, abs=2e-4), test.test_id  # heading ±90° within 0.01°
+
+
+def test_obstruction_placement_matches_the_protocol_figures():
+    """Hand-computed from V23/FC26: CPNCO cars 1.0 m clear of the VUT side, small car's front 1.0 m before
+    the child's path edge, SUV 1.0 m behind; CBNA row ends 17 m from the VUT lane centre line, 1.0 m clear
+    of the cyclist, SUV first, 0.2 m gap."""
+    cpnco = build_test(select(["CPNCO-50"])[0], planner="none").scenario.obstacles
+    small, suv = cpnco
+    assert (small.kind, suv.kind) == ("small car", "SUV")
+    child_half_width = 0.298 / 2
+    assert small.centre.x_m + small.length_m / 2 == pytest.approx(-child_half_width - 1.0)
+    assert suv.centre.x_m + suv.length_m / 2 == pytest.approx(small.centre.x_m - small.length_m / 2 - 1.0)
+    for car in cpnco:
+        assert car.centre.y_m + car.width_m / 2 == pytest.approx(-1.75 - 0.9 - 1.0)  # 1.0 m clear of the VUT
+    cbna = build_test(select(["CBNA-50"])[0], planner="none").scenario
+    suv, small = cbna.obstacles
+    path_x = 1.75  # the cyclist rides in the right lane of the nearside arm
+    assert (suv.kind, small.kind) == ("SUV", "small car")
+    assert suv.centre.y_m + suv.length_m / 2 == pytest.approx(-1.75 - 17.0)
+    assert small.centre.y_m + small.length_m / 2 == pytest.approx(suv.centre.y_m - suv.length_m / 2 - 0.2)
+    for car in cbna.obstacles:
+        assert car.centre.x_m + car.width_m / 2 == pytest.approx(path_x - 0.25 - 1.0)
+    assert cbna.vrus[0].start.x_m == pytest.approx(path_x)
+
+
+def test_a_test_gives_the_same_row_alone_and_inside_the_whole_grid():
+    tests = select(night=True)
+    grid = {row["test_id"]: row for row in run_tests(tests, planner="fsm", v2x=True).rows}
+    for test_id in ("CPNCO-50/30kph/night", "CMFtap/15kph/EMT45/day", "CPRA-Cs/8kph/IL75-adult/day"):
+        test = next(t for t in tests if t.test_id == test_id)
+        assert run_tests([test], planner="fsm", v2x=True).rows[0] == grid[test_id]

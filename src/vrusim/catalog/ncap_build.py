@@ -21,12 +21,13 @@ from vrusim.catalog.ncap_protocol import (
     LANE_WIDTH_M,
     NIGHT_SENSOR_RANGE_FACTOR,
     OBSTRUCTION_CARS,
+    OBSTRUCTIONS,
     TURN_PATHS,
     Cell,
     Dummy,
     NcapScenario,
 )
-from vrusim.scenario.paths import ego_route_spec, sample_path
+from vrusim.scenario.paths import SAMPLE_SPACING_M, ego_route_spec, sample_path
 from vrusim.scenario.schema import Ego, Route, Scenario
 
 VUT: dict[str, Any] = {
@@ -51,6 +52,12 @@ EXIT_LENGTH_M = 25.0
 RSU_OFFSET_M = (5.0, 5.0)
 """Roadside unit position relative to the nominal impact point, m (our choice)."""
 RSU_COMM_RANGE_M, RSU_COVERAGE_M = 250.0, 40.0
+SENSOR_RANGE_M, SENSOR_FOV_DEG = 20.0, 120.0
+"""The onboard sensor of the VUT: the paper's default sector (day)."""
+REVERSE_START_M = 10.0
+"""A reversing VUT starts this far before the collision point (V23; not given by the protocol)."""
+BRAKE_AFTER_S = 1.5
+"""CMRb: the motorcycle starts braking this long into the run (T0 = braking onset - 1 s, FC26)."""
 
 
 @dataclass(frozen=True)
@@ -112,12 +119,11 @@ def _ego_geometry(reverse: bool) -> tuple[float, float]:
     return length - back, length / 2 - back
 
 
-def _footprint(test: NcapTest) -> tuple[float, float, float]:
-    """(radius, footprint centre ahead of the reference point, ...) for the face of the target the VUT meets.
+def _footprint(test: NcapTest) -> tuple[float, float]:
+    """(radius, distance of the footprint centre ahead of the reference point), m, for the face the VUT meets.
 
-    Returns (radius_m, centre_minus_ref_m, unused): the circle has the target's half width; it sits at the box
-    centre for crossing and turning targets, against the rear face for targets ahead, against the front face
-    for oncoming ones.
+    The circle has the target's half width; it sits at the box centre for crossing and turning targets,
+    against the rear face for targets ahead, against the front face for oncoming ones.
     """
     dummy, layout = test.dummy, test.spec.layout
     radius = dummy.width_m / 2
@@ -128,7 +134,7 @@ def _footprint(test: NcapTest) -> tuple[float, float, float]:
     else:
         centre = dummy.length_m / 2
         use = "turning" if layout == "turning" and "turning" in dummy.ref_from_rear_m else "crossing"
-    return radius, centre - dummy.ref_from_rear_m[use], 0.0
+    return radius, centre - dummy.ref_from_rear_m[use]
 
 
 def _route_samples(ego: dict) -> np.ndarray:
@@ -191,17 +197,17 @@ def _target_line(test: NcapTest) -> tuple[tuple[float, float], tuple[float, floa
     return (0.0, 0.0), (0.0, 1.0)  # longitudinal, rear, reverse: the impact plane x = 0
 
 
-def _target_travel(test: NcapTest) -> tuple[str, float]:
-    """How the target moves: ("rest", distance accelerating and steady), ("flying", 0), ("still", 0),
-    ("braking", 0)."""
+def _target_travel(test: NcapTest) -> str:
+    """How the target moves: "rest" (triggered, accelerates, then steady), "flying" (steady from t = 0),
+    "still" (stationary) or "braking" (ahead at the VUT's speed, then brakes)."""
     spec = test.spec
     if spec.layout == "rear":
-        return ("braking", 0.0) if spec.headway_s > 0 else ("still", 0.0)
+        return "braking" if spec.headway_s > 0 else "still"
     if test.target_speed_mps == 0.0:
-        return "still", 0.0
+        return "still"
     if spec.layout == "oncoming" or "flying" in spec.tags:
-        return "flying", 0.0
-    return "rest", spec.accel_distance_m
+        return "flying"
+    return "rest"
 
 
 def _time_to_impact_from_rest(distance_m: float, accel_m: float, speed_mps: float) -> float:
@@ -215,193 +221,176 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
     """The executable Scenario of one catalogue test, and its nominal impact."""
     spec = test.spec
     v = test.cell.vut_speed_kph * KPH
-    reverse = spec.layout == "reverse"
-    lead, back = _ego_geometry(reverse)
     lateral = (test.impact_location - 0.5) * VUT["width_m"]
-    point, direction = _target_line(test)
-    kind, accel_m = _target_travel(test)
-    v_target = test.target_speed_mps
-    radius, centre_ahead, _ = _footprint(test)
-    heading = math.atan2(direction[1], direction[0])
-
-    # where the target meets the VUT, and how long before that it must start
-    if spec.layout in ("turning", "oncoming"):
-        probe = _turn_probe(test, v, lead, lateral, point, direction)
-        impact, station_from_turn, turn_start_x = probe
-    else:
-        travel = -1.0 if reverse else 1.0
-        impact = np.array([point[0], LANE_Y_M + travel * lateral])
-    if kind == "rest":
-        if spec.layout == "crossing":
-            start_y = LANE_Y_M - spec.lateral_offset_m * direction[1]
-            start = np.array([point[0], start_y])
-        elif spec.layout == "longitudinal":
-            heading = 0.0
-            direction = (1.0, 0.0)
-            start = impact - np.array(direction) * (spec.accel_distance_m + spec.steady_distance_m)
-        else:  # turning pedestrians and reversing: lateral_offset_m is the start → impact distance
-            if reverse:
-                direction = (0.0, -1.0)
-                heading = -math.pi / 2
-            start = impact - np.array(direction) * spec.lateral_offset_m
-        distance = float(np.hypot(*(impact - start)))
-        target_time = _time_to_impact_from_rest(distance, accel_m, v_target)
-    else:
-        target_time = 0.0
-    if spec.layout in ("longitudinal", "rear"):
-        heading, direction = 0.0, (1.0, 0.0)
-    if spec.layout == "reverse" and kind == "still":
-        heading, direction = -math.pi / 2, (0.0, -1.0)
-    needed_s = max(LEAD_TIME_S, target_time + 0.5)
-
-    # the VUT and its route; `station` is the rear-axle route distance at the nominal impact
-    if spec.layout in ("turning", "oncoming"):
-        approach = max(v * needed_s - station_from_turn, 5.0)
-        ego = {
-            **VUT,
-            "start": {"x_m": turn_start_x - approach + back, "y_m": LANE_Y_M, "heading_deg": 0.0},
-            "cruise_speed_mps": v,
-            "route": _turn_route(test, approach, EXIT_LENGTH_M),
-        }
-        station = approach + station_from_turn
-    else:
-        station = 10.0 if reverse else max(v * needed_s, 5.0)
-        travel = -1.0 if reverse else 1.0
-        centre_x = point[0] - travel * (station + lead - back)
-        route_length = station + EXIT_LENGTH_M
-        ego = {
-            **VUT,
-            "start": {"x_m": centre_x, "y_m": LANE_Y_M, "heading_deg": 0.0},
-            "cruise_speed_mps": v,
-            "route": {"kind": "straight", "length_m": route_length},
-            "reverse": reverse,
-        }
-        if not reverse:
-            del ego["reverse"]
+    kind = _target_travel(test)
+    impact, direction, turn = _impact_point(test, lateral)
+    start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
+    ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), turn)
     impact_time = station / v
-
-    # the target's start, profile and trigger
+    radius, centre_ahead = _footprint(test)
     vru: dict[str, Any] = {"type": test.dummy.vru_type.value, "radius_m": radius, "speed_time_constant_s": 0.0}
+    v_target = test.target_speed_mps
     steady_from = 0.0
     if kind == "rest":
-        trigger_station = station - v * target_time
-        if trigger_station < -1e-9:
-            raise ValueError(f"{test.test_id}: the VUT route is too short to synchronise the target")
+        accel = spec.accel_distance_m
         vru.update(
             top_speed_mps=v_target,
-            max_accel_mps2=v_target * v_target / (2 * accel_m) if accel_m > 0 else 1e3,
-            trigger={"ego_route_m": max(trigger_station, 0.0)},
+            max_accel_mps2=v_target * v_target / (2 * accel),
+            trigger={"ego_route_m": station - v * target_time},
         )
-        steady_from = impact_time - target_time + 2 * accel_m / v_target
+        steady_from = impact_time - target_time + 2 * accel / v_target
     elif kind == "flying":
-        start = impact - np.array(direction) * v_target * impact_time
+        start = impact - direction * v_target * impact_time
         vru.update(top_speed_mps=v_target, initial_speed_mps=v_target, trigger={"at_time_s": 0.0})
     elif kind == "still":
-        start = impact.copy()
         vru.update(top_speed_mps=0.0)
-    else:  # braking motorcycle ahead: same speed, headway, brakes 1.5 s into the run
-        brake_after = 1.5
-        front_x0 = point[0] - station
-        start = np.array([front_x0 + v * spec.headway_s, LANE_Y_M + lateral])
-        gap = v * spec.headway_s
-        catch_up = math.sqrt(2 * gap / spec.target_decel_mps2)
-        impact_time = brake_after + min(catch_up, v / spec.target_decel_mps2)
-        travelled = v * impact_time - 0.5 * spec.target_decel_mps2 * (impact_time - brake_after) ** 2
-        impact = start + np.array([travelled, 0.0])
-        ego["route"]["length_m"] = float(impact[0] - front_x0) + EXIT_LENGTH_M
-        vru.update(
-            top_speed_mps=v,
-            initial_speed_mps=v,
-            trigger={"at_time_s": 0.0},
-            brake={"after_trigger_s": brake_after, "decel_mps2": spec.target_decel_mps2},
-        )
-    centre = start + np.array(direction) * centre_ahead
+    else:
+        start, impact, impact_time = _braking_lead(test, v, station, lateral, vru)
+        ego["route"]["length_m"] = float(impact[0] - (_target_line(test)[0][0] - station)) + EXIT_LENGTH_M
+    centre = start + direction * centre_ahead
+    heading = math.atan2(direction[1], direction[0])
     vru.update(start={"x_m": float(centre[0]), "y_m": float(centre[1])}, heading_deg=math.degrees(heading))
-
-    sensor_range = 20.0 * (NIGHT_SENSOR_RANGE_FACTOR if test.lighting == "night" else 1.0)
-    junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
-    scenario = Scenario.model_validate(
-        {
-            "name": test.test_id,
-            "description": f"Euro NCAP {spec.code}: {spec.description}",
-            "road": {"layout": "intersection" if junction else "straight", "lane_width_m": LANE_WIDTH_M},
-            "ego": ego,
-            "sensor": {"range_m": sensor_range, "fov_deg": 120.0},
-            "v2x": {
-                "enabled": v2x,
-                "rsu": {"x_m": float(impact[0] + RSU_OFFSET_M[0]), "y_m": float(impact[1] + RSU_OFFSET_M[1])},
-                "comm_range_m": RSU_COMM_RANGE_M,
-                "coverage_range_m": RSU_COVERAGE_M,
-            },
-            "planner": {"name": planner},
-            "vrus": [vru],
-            "sim": {"dt_s": 0.01, "duration_s": round(impact_time + TAIL_TIME_S, 2)},
-        }
-        | ({"obstacles": obstruction_cars(spec.obstruction, point, test.dummy)} if spec.obstruction else {})
-    )
-    nominal = Nominal(
-        float(impact[0]), float(impact[1]), impact_time, lateral, centre_ahead, heading, max(steady_from, 0.0)
-    )
+    scenario = Scenario.model_validate(_scenario_mapping(test, planner, v2x, ego, vru, impact, impact_time))
+    nominal = Nominal(float(impact[0]), float(impact[1]), impact_time, lateral, centre_ahead, heading, steady_from)
     return BuiltTest(test, scenario, nominal)
 
 
-def _turn_probe(test: NcapTest, v: float, lead: float, lateral: float, point, direction):
+def _impact_point(test: NcapTest, lateral: float) -> tuple[np.ndarray, np.ndarray, tuple[float, float] | None]:
+    """Nominal impact point (world, m), the target's unit direction, and for turns (route distance from the
+    start of the turn to the impact, x of the turn start)."""
+    spec = test.spec
+    point, direction = _target_line(test)
+    if spec.layout in ("turning", "oncoming"):
+        station, impact, turn_start_x = _turn_probe(test, lateral, point, direction)
+        return impact, np.array(direction), (station, turn_start_x)
+    if spec.layout == "reverse":  # travelling -x: the IL point lies `lateral` to the right in world terms
+        return np.array([point[0], LANE_Y_M - lateral]), np.array([0.0, -1.0]), None
+    if spec.layout in ("longitudinal", "rear"):
+        return np.array([point[0], LANE_Y_M + lateral]), np.array([1.0, 0.0]), None
+    return np.array([point[0], LANE_Y_M + lateral]), np.array(direction), None
+
+
+def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
+    """Start of the reference point of a target starting from rest, and its time to the impact, s."""
+    spec = test.spec
+    if spec.layout == "crossing":  # lateral_offset_m: from the VUT path centre line
+        start = np.array([impact[0], LANE_Y_M - spec.lateral_offset_m * direction[1]])
+    elif spec.layout == "longitudinal":
+        start = impact - direction * (spec.accel_distance_m + spec.steady_distance_m)
+    else:  # turning and reversing: lateral_offset_m is the start → impact distance
+        start = impact - direction * spec.lateral_offset_m
+    distance = float(np.hypot(*(impact - start)))
+    return start, _time_to_impact_from_rest(distance, spec.accel_distance_m, test.target_speed_mps)
+
+
+def _vut(test: NcapTest, v: float, lead_time_s: float, turn: tuple[float, float] | None) -> tuple[dict, float]:
+    """The VUT mapping, started `lead_time_s` (at its test speed) before the impact, and the rear-axle route
+    distance at the nominal impact (m). Reversing tests start 10 m before the collision point (V23)."""
+    spec = test.spec
+    reverse = spec.layout == "reverse"
+    lead, back = _ego_geometry(reverse)
+    if turn is not None:
+        station_from_turn, turn_start_x = turn
+        approach = max(v * lead_time_s - station_from_turn, 5.0)
+        start_x, route = turn_start_x - approach + back, _turn_route(test, approach, EXIT_LENGTH_M)
+        station = approach + station_from_turn
+    else:
+        station = REVERSE_START_M if reverse else max(v * lead_time_s, 5.0)
+        travel = -1.0 if reverse else 1.0
+        start_x = _target_line(test)[0][0] - travel * (station + lead - back)
+        route = {"kind": "straight", "length_m": station + EXIT_LENGTH_M}
+    ego = {**VUT, "start": {"x_m": start_x, "y_m": LANE_Y_M, "heading_deg": 0.0}, "cruise_speed_mps": v}
+    ego["route"] = route
+    if reverse:
+        ego["reverse"] = True
+    return ego, station
+
+
+def _braking_lead(test: NcapTest, v: float, station: float, lateral: float, vru: dict):
+    """CMRb: the motorcycle drives ahead at the VUT's speed with the headway, brakes BRAKE_AFTER_S into the
+    run and meets the non-reacting VUT; returns (start, impact point, impact time) and sets its profile."""
+    spec = test.spec
+    front_x0 = _target_line(test)[0][0] - station
+    gap = v * spec.headway_s
+    start = np.array([front_x0 + gap, LANE_Y_M + lateral])
+    impact_time = BRAKE_AFTER_S + min(math.sqrt(2 * gap / spec.target_decel_mps2), v / spec.target_decel_mps2)
+    travelled = v * impact_time - 0.5 * spec.target_decel_mps2 * (impact_time - BRAKE_AFTER_S) ** 2
+    vru.update(
+        top_speed_mps=v,
+        initial_speed_mps=v,
+        trigger={"at_time_s": 0.0},
+        brake={"after_trigger_s": BRAKE_AFTER_S, "decel_mps2": spec.target_decel_mps2},
+    )
+    return start, start + np.array([travelled, 0.0]), impact_time
+
+
+def _scenario_mapping(test: NcapTest, planner: str, v2x: bool, ego: dict, vru: dict, impact, impact_time) -> dict:
+    """The Scenario mapping around the VUT and the target: road, sensor, roadside unit, obstructions, timing."""
+    spec = test.spec
+    junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
+    sensor_range = SENSOR_RANGE_M * (NIGHT_SENSOR_RANGE_FACTOR if test.lighting == "night" else 1.0)
+    mapping = {
+        "name": test.test_id,
+        "description": f"Euro NCAP {spec.code}: {spec.description}",
+        "road": {"layout": "intersection" if junction else "straight", "lane_width_m": LANE_WIDTH_M},
+        "ego": ego,
+        "sensor": {"range_m": sensor_range, "fov_deg": SENSOR_FOV_DEG},
+        "v2x": {
+            "enabled": v2x,
+            "rsu": {"x_m": float(impact[0] + RSU_OFFSET_M[0]), "y_m": float(impact[1] + RSU_OFFSET_M[1])},
+            "comm_range_m": RSU_COMM_RANGE_M,
+            "coverage_range_m": RSU_COVERAGE_M,
+        },
+        "planner": {"name": planner},
+        "vrus": [vru],
+        "sim": {"dt_s": 0.01, "duration_s": round(impact_time + TAIL_TIME_S, 2)},
+    }
+    if spec.obstruction:
+        mapping["obstacles"] = obstruction_cars(spec.obstruction, _target_line(test)[0], test.dummy)
+    return mapping
+
+
+def _turn_probe(test: NcapTest, lateral: float, point, direction) -> tuple[float, np.ndarray, float]:
     """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into.
 
-    Returns (impact point, route distance from the start of the turn to the impact, x of the turn start).
+    Returns (route distance from the start of the turn to the impact, impact point, x of the turn start).
     """
-    back = _ego_geometry(False)[1]
-    probe = {
-        **VUT,
-        "start": {"x_m": back, "y_m": 0.0, "heading_deg": 0.0},
-        "cruise_speed_mps": max(v, 0.1),
-        "route": _turn_route(test, 0.0, EXIT_LENGTH_M),
-    }
+    lead, back = _ego_geometry(False)
+    probe = {**VUT, "start": {"x_m": back, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
+    route = ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, 0.0, EXIT_LENGTH_M)
+    probe["route"] = route.model_dump()
     samples = _route_samples(probe)
-    end = samples[np.argmin(np.abs(samples[:, 2]) + 10.0 * (np.abs(samples[:, 4]) > 0))]
-    exit_x = LANE_WIDTH_M / 2 if test.spec.turn == "farside" else -LANE_WIDTH_M / 2
-    turn_start_x = exit_x - end[0]
+    exit_x = samples[math.ceil(route.turn_length_m / SAMPLE_SPACING_M), 0]  # where the exit straight begins
+    turn_start_x = (LANE_WIDTH_M / 2 if test.spec.turn == "farside" else -LANE_WIDTH_M / 2) - exit_x
     samples[:, 0] += turn_start_x
     samples[:, 1] += LANE_Y_M
     station, impact = _crossing(samples, lead, lateral, point, direction)
-    return impact, station, turn_start_x
+    return station, impact, turn_start_x
 
 
 def obstruction_cars(kind: str, path_point, dummy: Dummy) -> list[dict]:
-    """Parked obstruction vehicles of a scenario, as Scenario `obstacles` mappings (docs/euroncap.md)."""
-    small, suv = OBSTRUCTION_CARS["small car"], OBSTRUCTION_CARS["SUV"]
+    """Parked obstruction vehicles of a scenario family as Scenario `obstacles` mappings (docs/euroncap.md).
+
+    `path_point` is a point of the target's path (which runs along y); `dummy` sets the path's edge.
+    """
+    row = OBSTRUCTIONS[kind]
     half_target = dummy.width_m / 2
-    if kind == "CPNCO":
-        # parallel to the VUT path on the nearside, 1.0 m clear of the VUT side; small car's front 1.0 m before
-        # the child's path edge, SUV 1.0 m behind it
-        front = path_point[0] - half_target - 1.0
-        cars = [("small car", small, front - small[0] / 2), ("SUV", suv, front - small[0] - 1.0 - suv[0] / 2)]
-        return [
-            {
-                "kind": name,
-                "centre": {"x_m": x, "y_m": LANE_Y_M - (VUT["width_m"] / 2 + 1.0 + size[1] / 2), "heading_deg": 0.0},
-                "length_m": size[0],
-                "width_m": size[1],
-            }
-            for name, size, x in cars
-        ]
-    # junction cases: SUV nearest the junction, then the small car 0.2 m behind it, parallel to the side road,
-    # on the VUT's side of the cyclist's path
-    end_from_lane, clearance = {"CBNA": (17.0, 1.0), "CBNAO": (3.55, 4.8), "CBFA": (22.0, 1.0)}[kind]
-    outward = -1.0 if kind != "CBFA" else 1.0  # nearside arm: y < 0; farside arm: y > 0
-    end_y = LANE_Y_M + outward * end_from_lane
-    toward_vut = -1.0  # the VUT approaches from -x
-    cars, along = [], 0.0
-    for name, size in (("SUV", suv), ("small car", small)):
-        centre_y = end_y + outward * (along + size[0] / 2)
-        centre_x = path_point[0] + toward_vut * (half_target + clearance + size[1] / 2)
-        cars.append(
-            {
-                "kind": name,
-                "centre": {"x_m": centre_x, "y_m": centre_y, "heading_deg": 90.0},
-                "length_m": size[0],
-                "width_m": size[1],
-            }
-        )
-        along += size[0] + 0.2
+    cars = []
+    if row.along_vut:  # parallel to the VUT path, nearside; the first car's front before the path edge
+        y = LANE_Y_M - (VUT["width_m"] / 2 + row.clearance_m)
+        front = path_point[0] - half_target - row.first_offset_m
+        for name in row.cars:
+            length, width = OBSTRUCTION_CARS[name]
+            centre = {"x_m": front - length / 2, "y_m": y - width / 2, "heading_deg": 0.0}
+            cars.append({"kind": name, "centre": centre, "length_m": length, "width_m": width})
+            front -= length + row.gap_m
+        return cars
+    outward = 1.0 if path_point[0] < 0 else -1.0  # farside arm (path at x < 0): y > 0; nearside arm: y < 0
+    end = LANE_Y_M + outward * row.first_offset_m
+    for name in row.cars:  # on the VUT's side (-x) of the target's path, parallel to the side road
+        length, width = OBSTRUCTION_CARS[name]
+        x = path_point[0] - (half_target + row.clearance_m + width / 2)
+        centre = {"x_m": x, "y_m": end + outward * length / 2, "heading_deg": 90.0}
+        cars.append({"kind": name, "centre": centre, "length_m": length, "width_m": width})
+        end += outward * (length + row.gap_m)
     return cars

@@ -620,3 +620,30 @@ OBSTRUCTION_CARS: dict[str, tuple[float, float]] = {
     "SUV": (4.418, 1.82),
 }
 """(length, width) of the parked obstruction vehicles, m (V23 values inside the FC26 Appendix B ranges)."""
+
+
+@dataclass(frozen=True)
+class Obstruction:
+    """A row of parked cars (first listed nearest the conflict), parallel to the VUT path or to the side road.
+
+    along_vut: cars parallel to the VUT path on the nearside, `clearance_m` clear of the VUT's side, the first
+    car's front `first_offset_m` before the target's path edge. Otherwise: cars parallel to the target's path
+    on the VUT's side of it, `clearance_m` clear of the target, the row ending `first_offset_m` from the VUT
+    lane centre line.
+    """
+
+    cars: tuple[str, ...]
+    along_vut: bool
+    clearance_m: float
+    first_offset_m: float
+    gap_m: float
+    source: str
+
+
+OBSTRUCTIONS: dict[str, Obstruction] = {
+    "CPNCO": Obstruction(("small car", "SUV"), True, 1.0, 1.0, 1.0, "V23 CPNCO (I = J = 1 m); FC26 §3.2.3.1"),
+    "CBNA": Obstruction(("SUV", "small car"), False, 1.0, 17.0, 0.2, "V23 CBNA (row ends at D = 17 m)"),
+    "CBNAO": Obstruction(("SUV", "small car"), False, 4.8, 3.55, 0.2, "V23 CBNAO (I = 3.55 m, J = 4.8 m)"),
+    "CBFA": Obstruction(("SUV", "small car"), False, 1.0, 22.0, 0.2, "V23 CBFA; placement UNVERIFIED (vectorgrp #15)"),
+}
+"""Parked obstruction rows by scenario family."""
