@@ -3,14 +3,22 @@
 from __future__ import annotations
 
 import copy
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
+from hypothesis import settings
 
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
+
+# Property tests draw their inputs from a fixed seed by default, so CI on a fresh clone (no example database)
+# is reproducible; `HYPOTHESIS_PROFILE=explore python -m pytest` draws fresh random inputs to hunt for new cases.
+settings.register_profile("ci", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PAPER_DIR = REPO_ROOT / "scenarios" / "paper"

@@ -201,7 +201,7 @@ DT = 1e-4
 TIMES = np.linspace(0.0, HORIZON, round(HORIZON / DT) + 1)
 # Sub-micro speeds and headings are excluded here: they make the brute-force clearance underflow (a
 # 1e-200 m gap squares to 0), which says nothing about the TTC; the no-NaN test covers such input.
-speed = st.one_of(st.just(0.0), st.floats(-12.0, 12.0).filter(lambda v: abs(v) > 1e-6))
+speed = st.one_of(st.just(0.0), st.floats(-12.0, 12.0, allow_subnormal=False).filter(lambda v: abs(v) > 1e-6))
 
 
 def unit_vector(th):
@@ -214,21 +214,21 @@ def unit_vector(th):
 @st.composite
 def moving_scenes(draw):
     """Random poses; half the time aimed so that the circle would pass a point near the car at t*."""
-    hx, hy = unit_vector(draw(st.floats(0.0, 2 * math.pi)))
-    cx, cy = draw(st.floats(-10, 10)), draw(st.floats(-10, 10))
-    hl, hw = draw(st.floats(0.0, 2.5)), draw(st.floats(0.0, 1.2))
-    r = draw(st.one_of(st.just(0.0), st.floats(0.0, 1.0)))
+    hx, hy = unit_vector(draw(st.floats(0.0, 2 * math.pi, allow_subnormal=False)))
+    cx, cy = draw(st.floats(-10, 10, allow_subnormal=False)), draw(st.floats(-10, 10, allow_subnormal=False))
+    hl, hw = draw(st.floats(0.0, 2.5, allow_subnormal=False)), draw(st.floats(0.0, 1.2, allow_subnormal=False))
+    r = draw(st.one_of(st.just(0.0), st.floats(0.0, 1.0, allow_subnormal=False)))
     evx, evy, vx, vy = draw(speed), draw(speed), draw(speed), draw(speed)
     if draw(st.booleans()):
         # Target point in the car frame at time t*, in world coordinates at that time.
-        t_star = draw(st.floats(0.0, HORIZON))
+        t_star = draw(st.floats(0.0, HORIZON, allow_subnormal=False))
         lx = draw(st.floats(-(hl + r + 1.0), hl + r + 1.0))
         ly = draw(st.floats(-(hw + r + 1.0), hw + r + 1.0))
         tx = cx + evx * t_star + lx * hx - ly * hy
         ty = cy + evy * t_star + lx * hy + ly * hx
         px, py = tx - vx * t_star, ty - vy * t_star
     else:
-        px, py = draw(st.floats(-25, 25)), draw(st.floats(-25, 25))
+        px, py = draw(st.floats(-25, 25, allow_subnormal=False)), draw(st.floats(-25, 25, allow_subnormal=False))
     return cx, cy, hx, hy, hl, hw, evx, evy, px, py, r, vx, vy
 
 
@@ -271,8 +271,8 @@ def test_ttc_is_first_touch(scene):
 
 
 special = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 1.5, 2.5, -2.5, 3.0])
-value = st.one_of(special, st.floats(-30.0, 30.0, allow_nan=False))
-nonneg = st.one_of(st.sampled_from([0.0, 0.5, 1.0, 2.0]), st.floats(0.0, 3.0))
+value = st.one_of(special, st.floats(-30.0, 30.0, allow_nan=False, allow_subnormal=False))
+nonneg = st.one_of(st.sampled_from([0.0, 0.5, 1.0, 2.0]), st.floats(0.0, 3.0, allow_subnormal=False))
 
 
 @settings(max_examples=60, deadline=None)
