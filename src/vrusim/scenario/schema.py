@@ -321,6 +321,7 @@ class SimSettings(_Frozen):
 
     dt_s: float = Field(0.01, gt=0, le=0.1)
     duration_s: float = Field(15.0, gt=0, le=3600)
+    seed: int = Field(0, ge=0, lt=2**63, description="key of the variant's random numbers (sensor, V2X)")
     stop_on_collision: bool = True
     stop_at_route_end: bool = True
 

@@ -25,6 +25,8 @@ class BatchParams:
     dt_s: float
     n_steps: int
     duration_s: np.ndarray
+    seed: np.ndarray
+    """Each variant's `sim.seed` (int64): the key of its random numbers (`vrusim.sim.rng`)."""
     stop_on_collision: np.ndarray
     stop_at_route_end: np.ndarray
     # ego
@@ -160,6 +162,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         dt_s=dt,
         n_steps=math.ceil(duration.max() / dt - 1e-9),
         duration_s=duration,
+        seed=np.array([s.sim.seed for s in scenarios], dtype=np.int64),
         stop_on_collision=np.array([s.sim.stop_on_collision for s in scenarios]),
         stop_at_route_end=np.array([s.sim.stop_at_route_end for s in scenarios]),
         half_length_m=ego_array(lambda s: s.ego.length_m / 2),

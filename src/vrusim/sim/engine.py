@@ -1,6 +1,7 @@
 """The batch engine: advances B variants in lock-step with a fixed time step.
 
-Each step, from the state at time t: sensing (sector) → V2X (RSU → channel) → fused observation → planner →
+Each step, from the state at time t: sensing (sector, occlusion → sensor model) → V2X (RSU → channel) → fused
+observation → planner →
 VRU triggers (judged on the ego state at t) and VRU motion to t + dt → ego motion to t + dt → contact check and
 streaming metrics. A variant stops contributing to
 its metrics when it collides (if `stop_on_collision`), completes its route (if `stop_at_route_end`) or reaches
@@ -25,8 +26,9 @@ from vrusim.sim.contact import clearance_batch
 from vrusim.sim.ego_dynamics import advance_egos
 from vrusim.sim.observation import Observation, fuse
 from vrusim.sim.sensing import sense
+from vrusim.sim.sensor_model import make_sensor_model
 from vrusim.sim.state import initial_ego, initial_vrus
-from vrusim.sim.v2x import Channel, IdealChannel, rsu_broadcast
+from vrusim.sim.v2x import Channel, make_channel, rsu_broadcast
 from vrusim.sim.vru_motion import advance_vrus
 
 
@@ -58,9 +60,11 @@ def simulate(
     params = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
     planner_name = params.scenarios[0].planner.name if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(params.scenarios)
-    channel = channel if channel is not None else IdealChannel()
+    channel = channel if channel is not None else make_channel(params)
+    sensor = make_sensor_model(params)
     planner.reset(params)
     channel.reset(params)
+    sensor.reset(params)
     mode_names = tuple(getattr(planner, "mode_names", ("running",)))
     metrics = RunMetrics(params, len(mode_names))
     ego = initial_ego(params)
@@ -78,12 +82,13 @@ def simulate(
     for step in range(params.n_steps):
         t = step * dt
         front_x, front_y = ego.front_x_m.copy(), ego.front_y_m.copy()
-        sensed = sense(params, front_x, front_y, ego, vrus)
+        visible = sense(params, front_x, front_y, ego, vrus)
+        sensed, sensed_kinematics = sensor.observe(step, t, visible, vrus.kinematics)
         messages = channel.deliver(
             t,
             rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.kinematics),
         )
-        detected, source, estimate = fuse(sensed, vrus.kinematics, messages)
+        detected, source, estimate = fuse(sensed, sensed_kinematics, messages)
         metrics.record_detection(t, active, sensed, messages.received)
         observation = Observation(t, dt, *ego_view, params.routes, route_offset, detected, source, estimate, radius)
         old_mode = getattr(planner, "mode", None)

@@ -77,15 +77,18 @@ class Observation:
         return self.vru_estimate[6]
 
 
-def fuse(sensed: np.ndarray, truth: np.ndarray, v2x: V2xMessages) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fuse(
+    sensed: np.ndarray, sensor_estimate: np.ndarray, v2x: V2xMessages
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Union of sensor and V2X detections: (detected [B, K], source bits [B, K], estimate [7, B, K]).
 
-    The estimate stacks x, y, vx, vy, ax, ay (as `truth`, [6, B, K]) and the age in s; the sensor wins.
+    The estimate stacks x, y, vx, vy, ax, ay (the sensor's estimate [6, B, K] where it detects the VRU, else
+    the V2X message's) and the age in s; the sensor wins.
     """
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
     estimate = np.empty((7, *shape))
-    _fuse(shape[0], sensed, truth, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
+    _fuse(shape[0], sensed, sensor_estimate, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
     return detected, source, estimate
 
 

@@ -47,6 +47,11 @@ class IdealChannel:
         return sent
 
 
+def make_channel(params: BatchParams) -> Channel:
+    """The V2X channel of a batch."""
+    return IdealChannel()
+
+
 def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessages:
     """What the RSU sends to each ego this step: VRUs in its coverage, if the ego is within range.
 
