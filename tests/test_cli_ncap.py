@@ -74,6 +74,7 @@ def test_ncap_terminal_grid_lists_every_selected_scenario():
         (["--scenario", "XYZ-99"], ["--scenario", "XYZ-99"]),
         (["--planner", "nonsense"], ["--planner", "nonsense"]),
         (["--planner", "no_such_module:Planner"], ["--planner"]),
+        (["--scenario", ""], ["--scenario"]),
     ],
 )
 def test_ncap_bad_options_are_user_errors(args, names):
@@ -87,6 +88,19 @@ def test_ncap_out_that_is_a_file_is_a_user_error(tmp_path):
     assert target.read_text() == "keep me"
 
 
+def test_out_targets_are_checked_before_the_run_and_written_all_or_none(tmp_path):
+    (tmp_path / "scorecard.png").mkdir()
+    result = invoke("ncap", "--scenario", "CPTAns", "--out", tmp_path)
+    assert_user_error(result, "--out", "scorecard.png")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scorecard.png"]  # nothing else written
+
+
+def test_scenario_selection_is_a_case_insensitive_prefix():
+    assert {t.spec.code for t in select(["cmrs"])} == {"CMRs", "CMRs-FCW"}
+    assert {t.spec.code for t in select(["CPTA"])} == {"CPTAfs", "CPTAfo", "CPTAns", "CPTAno"}
+    assert {t.spec.code for t in select(["CPNA-25"])} == {"CPNA-25"}
+
+
 def test_list_shows_every_entry_and_its_flags():
     result = invoke("list", "--json")
     assert result.exit_code == 0, result.output
@@ -98,6 +112,13 @@ def test_list_shows_every_entry_and_its_flags():
     assert by_code["CBTAfs"]["unverified"]
     assert by_code["CPNCO-50"]["obstruction"] == "CPNCO"
     assert by_code["CPNA-25"]["vut_speeds_kph"] == [10.0 + 5 * i for i in range(11)]
+    assert by_code["CPRA-Cs"]["targets"] == ["EPTa", "EPTc"]
+    assert by_code["CPRA-Cs"]["impact_locations_pct"] == [25, 50, 75]
+    assert by_code["CBTAns"]["impact_side"] == "right"
+    assert by_code["CPNA-25"]["geometry"]["lateral_offset_m"] == 4.0
+    assert by_code["CMRb"]["target_speeds_kph"] == "vut"
+    assert any(flag.startswith("EBTa: ") for flag in by_code["CBLA-50"]["unverified"])  # dummy flags too
     text = invoke("list")
     assert text.exit_code == 0
-    assert "CPNCO-50" in text.stdout and "unverified" in text.stdout
+    assert "CPNCO-50" in text.stdout
+    assert "side impact at 50 % of the VUT length" in " ".join(text.stdout.split())

@@ -185,6 +185,9 @@ def test_avoidance_only_scenarios_are_green_or_red():
     assert (hit.colour, hit.criterion) == ("red", "avoidance only")
     # 50 km/h bands would make a 1 km/h impact yellow; avoidance-only makes it red
     assert assess_test(row(**tap, speed_kph=50.0, impact_kph=1.0)).colour == "red"
+    # touched after the VUT had stopped (V_impact = 0): allowed, green (FC26)
+    stopped = assess_test(row(**tap, speed_kph=20.0, impact_kph=0.0))
+    assert (stopped.collided, stopped.colour) == (True, "green")
 
 
 @pytest.mark.parametrize("speed", [4.0, 8.0])
@@ -267,6 +270,19 @@ def test_docs_list_every_points_entry():
     for (scenario, lighting), points in SCENARIO_POINTS.items():
         pattern = rf"^\| {re.escape(scenario)} \| {lighting} \|.*\| {points:.4f} \|"
         assert re.search(pattern, text, re.MULTILINE), (scenario, lighting, f"{points:.4f}")
+    rows = re.findall(r"^\| (C[A-Za-z-]+\d*(?:-[A-Za-z]+)?) \| (day|night) \|", text, re.MULTILINE)
+    assert sorted(set(rows)) == sorted(SCENARIO_POINTS)  # and nothing the code does not score
+
+
+def test_points_table_matches_the_catalogue():
+    """Cell counts and (scenario, lighting) pairs come from the protocol tables: every catalogue pair is
+    scored and every scored pair exists in the catalogue."""
+    from vrusim.catalog.ncap_protocol import BY_CODE, SCENARIOS
+
+    catalogue = {(spec.code, lighting) for spec in SCENARIOS for lighting in spec.lighting}
+    assert set(SCENARIO_POINTS) == catalogue
+    for entry in POINTS_ENTRIES.values():
+        assert entry.cells == len(BY_CODE[entry.scenario].cells), entry.scenario
 
 
 # ----------------------------------------------------------------------------------------------- aggregation

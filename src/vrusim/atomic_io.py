@@ -45,3 +45,28 @@ def write_atomically(path: str | Path, write: Callable[[Path], None], what: str 
         temp.unlink(missing_ok=True)
         raise
     return path
+
+
+def write_together(targets: list[tuple[Path, Callable[[Path], None], str]]) -> list[Path]:
+    """Write several files as one unit: every `write(temp)` runs on a temporary file next to its target, and
+    only when all succeeded are they renamed over their targets; on any failure no target is touched and no
+    temporary file is left. `targets` holds (path, write, what) triples."""
+    temps: list[Path] = []
+    try:
+        for path, write, what in targets:
+            if path.is_dir():
+                raise UserInputError(f"{path}: cannot write {what}, it is a folder")
+            try:
+                handle, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+                os.close(handle)
+                temps.append(Path(temp_name))
+                write(temps[-1])
+                os.chmod(temps[-1], _default_file_mode())
+            except OSError as error:
+                raise UserInputError(f"{path}: cannot write {what} ({error.strerror or error})") from None
+        for temp, (path, _, _) in zip(temps, targets, strict=True):
+            os.replace(temp, path)
+    finally:
+        for temp in temps:
+            temp.unlink(missing_ok=True)
+    return [path for path, _, _ in targets]

@@ -6,7 +6,7 @@ import itertools
 import time
 from dataclasses import asdict
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich import box
@@ -15,6 +15,10 @@ from rich.table import Table
 
 from vrusim.cli_support import V2XSwitch, console, print_json, user_errors
 from vrusim.errors import UserInputError
+
+if TYPE_CHECKING:
+    from vrusim.catalog.ncap_protocol import NcapScenario
+    from vrusim.metrics.ncap import Assessment
 
 
 def _speed_grid(speeds: list[float]) -> str:
@@ -26,37 +30,72 @@ def _speed_grid(speeds: list[float]) -> str:
 
 
 def catalogue_listing() -> list[dict]:
-    """One JSON-ready row per catalogue scenario: its parameters and flags."""
-    from vrusim.catalog.ncap_protocol import SCENARIOS
+    """One JSON-ready row per catalogue scenario: its parameters, geometry and UNVERIFIED flags."""
+    from vrusim.catalog.ncap_protocol import DUMMIES, SCENARIOS
 
-    return [
-        {
-            "code": s.code,
-            "group": s.group,
-            "description": s.description,
-            "function": s.function,
-            "target": s.target,
-            "target_speeds_kph": _target_speeds(s),
-            "vut_speeds_kph": sorted({c.vut_speed_kph for c in s.cells}),
-            "variants": [c.variant for c in s.cells if c.variant],
-            "impact_location_pct": round(100 * s.impact_location),
-            "lighting": list(s.lighting),
-            "obstruction": s.obstruction,
-            "extension": s.extension,
-            "unverified": list(s.unverified),
-            "sources": s.sources,
-            "tests": len(s.cells) * len(s.lighting),
+    rows = []
+    for s in SCENARIOS:
+        targets = sorted({c.target or s.target for c in s.cells})
+        locations = sorted({c.impact_location if c.impact_location is not None else s.impact_location for c in s.cells})
+        geometry = {
+            "layout": s.layout,
+            "side": s.side,
+            "turn": s.turn,
+            "lateral_offset_m": s.lateral_offset_m,
+            "start_to_impact_m": s.start_to_impact_m,
+            "accel_distance_m": s.accel_distance_m,
+            "steady_distance_m": s.steady_distance_m,
+            "target_line_m": s.target_line_m,
+            "headway_s": s.headway_s,
+            "target_decel_mps2": s.target_decel_mps2,
         }
-        for s in SCENARIOS
-    ]
+        rows.append(
+            {
+                "code": s.code,
+                "group": s.group,
+                "description": s.description,
+                "function": s.function,
+                "targets": targets,
+                "target_speeds_kph": _target_speeds(s),
+                "vut_speeds_kph": sorted({c.vut_speed_kph for c in s.cells}),
+                "variants": [c.variant for c in s.cells if c.variant],
+                "impact_locations_pct": [round(100 * x) for x in locations],
+                "impact_side": s.impact_side,
+                "geometry": {k: v for k, v in geometry.items() if v not in (0.0, None)},
+                "lighting": list(s.lighting),
+                "obstruction": s.obstruction,
+                "extension": s.extension,
+                "unverified": list(s.unverified) + [f"{t}: {flag}" for t in targets for flag in DUMMIES[t].unverified],
+                "sources": s.sources,
+                "tests": len(s.cells) * len(s.lighting),
+            }
+        )
+    return rows
 
 
-def _target_speeds(spec) -> list[float] | str:
+def _target_speeds(spec: NcapScenario) -> list[float] | str:
     """Target speeds of a scenario's grid, km/h; "vut" when the target drives at the VUT's speed (CMRb)."""
     if spec.headway_s > 0:
         return "vut"
     return sorted({round(c.target_speed_kph if c.target_speed_kph is not None else spec.target_speed_kph, 2)
                    for c in spec.cells})  # fmt: skip
+
+
+def _geometry_text(geometry: dict) -> str:
+    """Compact geometry: start offset / start→impact, acceleration and steady distances, headway."""
+    labels = {
+        "lateral_offset_m": "off",
+        "start_to_impact_m": "d",
+        "accel_distance_m": "acc",
+        "steady_distance_m": "steady",
+        "target_line_m": "line",
+        "headway_s": "headway",
+        "target_decel_mps2": "decel",
+    }
+    units = {"headway_s": " s", "target_decel_mps2": " m/s²"}
+    parts = [f"{label} {geometry[key]:g}{units.get(key, ' m')}" for key, label in labels.items() if key in geometry]
+    turn = f"{geometry['turn']} turn; " if "turn" in geometry else ""
+    return turn + ", ".join(parts)
 
 
 def list_catalogue(
@@ -69,19 +108,20 @@ def list_catalogue(
         return
     table = Table(title="Euro NCAP AEB VRU catalogue (v4.5.1; E = vrusim extension, ! = unverified values)",
                   box=box.SIMPLE_HEAD)  # fmt: skip
-    for name in ("Code", "Group", "Function", "Target", "km/h", "VUT km/h", "IL %", "Light", "Obstr.", "Tests"):
-        table.add_column(name)
+    for name in ("Code", "Function", "Target", "km/h", "VUT km/h", "IL %", "Geometry", "Light", "Obstr.", "Tests"):
+        table.add_column(name, overflow="fold" if name == "Geometry" else "ellipsis")
     table.add_column("Flags / unverified", overflow="fold")
     for row in rows:
         flags = ("E " if row["extension"] else "") + ("! " + "; ".join(row["unverified"]) if row["unverified"] else "")
+        side = "" if row["impact_side"] == "front" else f" {row['impact_side']} side"
         table.add_row(
             row["code"],
-            row["group"],
             row["function"],
-            row["target"],
+            "/".join(row["targets"]),
             "= VUT" if row["target_speeds_kph"] == "vut" else "/".join(f"{v:g}" for v in row["target_speeds_kph"]),
             _speed_grid(row["vut_speeds_kph"]),
-            str(row["impact_location_pct"]),
+            "/".join(str(p) for p in row["impact_locations_pct"]) + side,
+            _geometry_text(row["geometry"]),
             "/".join(row["lighting"]),
             row["obstruction"] or "",
             str(row["tests"]),
@@ -119,8 +159,8 @@ def ncap(
         from vrusim.metrics.ncap import assess
         from vrusim.planners.registry import make_planner
 
-        if out is not None and out.exists() and not out.is_dir():
-            raise UserInputError(f"--out: {out} exists and is not a folder")
+        if out is not None:
+            prepare_out(out)
         try:
             make_planner(planner)
         except UserInputError as error:
@@ -148,27 +188,45 @@ def ncap(
         terminal.print(f"Wrote {escape(str(path))}")
 
 
-def result_rows(run_rows: list[dict], assessment) -> list[dict]:
+def result_rows(run_rows: list[dict], assessment: Assessment) -> list[dict]:
     """One row per test: the simulation's row joined with its assessment (colour, points, speeds in km/h)."""
     assessed = {test.test_id: asdict(test) for test in assessment.tests}
     return [row | assessed[row["test_id"]] for row in run_rows]
 
 
-def write_outputs(folder: Path, rows: list[dict], assessment) -> list[Path]:
-    """results.csv, results.parquet and scorecard.png in `folder` (created if needed), each written atomically."""
+OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png")
+"""What `vrusim ncap --out DIR` writes."""
+
+
+def prepare_out(folder: Path) -> None:
+    """Create the --out folder before anything runs, and refuse targets that cannot be files."""
+    if folder.exists() and not folder.is_dir():
+        raise UserInputError(f"--out: {folder} exists and is not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise UserInputError(f"--out: cannot create {folder} ({error.strerror or error})") from None
+    for name in OUTPUT_FILES:
+        if (folder / name).is_dir():
+            raise UserInputError(f"--out: {folder / name} is a folder; cannot write {name}")
+
+
+def write_outputs(folder: Path, rows: list[dict], assessment: Assessment) -> list[Path]:
+    """results.csv, results.parquet and scorecard.png in `folder`, written together: all or none."""
     import pyarrow as pa
     import pyarrow.csv as pa_csv
     import pyarrow.parquet as pq
 
-    from vrusim.atomic_io import write_atomically
-    from vrusim.viz.scorecard import write_scorecard_png
+    from vrusim.atomic_io import write_together
+    from vrusim.viz.scorecard import scorecard_figure
 
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise UserInputError(f"--out: cannot create {folder} ({error.strerror})") from None
     table = pa.Table.from_pylist(rows)
-    csv_path = write_atomically(folder / "results.csv", lambda temp: pa_csv.write_csv(table, temp), "results")
-    parquet_path = write_atomically(folder / "results.parquet", lambda temp: pq.write_table(table, temp), "results")
-    png_path = write_scorecard_png(assessment, folder / "scorecard.png")
-    return [csv_path, parquet_path, png_path]
+    figure = scorecard_figure(assessment)
+    csv_name, parquet_name, png_name = OUTPUT_FILES
+    return write_together(
+        [
+            (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),
+            (folder / parquet_name, lambda temp: pq.write_table(table, temp), "results"),
+            (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
+        ]
+    )

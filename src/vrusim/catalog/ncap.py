@@ -6,7 +6,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from vrusim.catalog.ncap_build import BuiltTest, NcapTest, build_test
-from vrusim.catalog.ncap_protocol import BY_CODE, SCENARIOS, NcapScenario
+from vrusim.catalog.ncap_protocol import KPH, SCENARIOS, NcapScenario
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.planners.registry import make_planner
@@ -21,11 +21,13 @@ def scenario_codes() -> list[str]:
 def select(codes: Sequence[str] | None = None, night: bool = False) -> list[NcapTest]:
     """The tests of the chosen scenarios (all when `codes` is empty): every cell, day, plus night if asked.
 
-    A code may name a scenario exactly (`CPNA-25`) or a family prefix (`CPTA`, `CB`).
+    A code selects every scenario whose code starts with it, ignoring case: `CPNA-25` one scenario, `CPTA`
+    the four CPTA scenarios, `CMRs` both CMRs rows, `CB` every cyclist scenario.
     """
     chosen: list[NcapScenario] = []
     for code in codes or []:
-        matches = [BY_CODE[code]] if code in BY_CODE else [s for s in SCENARIOS if s.code.startswith(code)]
+        wanted = code.strip().upper()
+        matches = [s for s in SCENARIOS if s.code.upper().startswith(wanted)] if wanted else []
         if not matches:
             raise UserInputError(
                 f"--scenario: unknown catalogue entry {code!r}; expected one of: {', '.join(scenario_codes())}"
@@ -75,7 +77,7 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
                 "vut_speed_kph": test.cell.vut_speed_kph,
                 "variant": test.cell.variant,
                 "target": test.dummy.code,
-                "target_speed_kph": round(test.target_speed_mps * 3.6, 3),
+                "target_speed_kph": round(test.target_speed_mps / KPH, 3),
                 "impact_location": test.impact_location,
                 "extension": test.spec.extension,
                 "planner": planner,

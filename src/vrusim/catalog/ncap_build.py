@@ -58,11 +58,13 @@ REVERSE_START_M = 10.0
 """A reversing VUT starts this far before the collision point (V23; not given by the protocol)."""
 BRAKE_AFTER_S = 1.5
 """CMRb: the motorcycle starts braking this long into the run (T0 = braking onset - 1 s, FC26)."""
+INSTANT_ACCEL_MPS2 = 1e3
+"""Acceleration of a target with no acceleration distance (reaches its speed within one step)."""
 
 
 @dataclass(frozen=True)
 class NcapTest:
-    """One executable test of the catalogue."""
+    """One executable test of the catalogue: a scenario, one cell of its grid, and the lighting."""
 
     spec: NcapScenario
     cell: Cell
@@ -70,19 +72,25 @@ class NcapTest:
 
     @property
     def test_id(self) -> str:
+        """`CODE/<speed>kph[/variant]/<lighting>`, unique in the catalogue."""
         variant = f"/{self.cell.variant}" if self.cell.variant else ""
         return f"{self.spec.code}/{self.cell.vut_speed_kph:g}kph{variant}/{self.lighting}"
 
     @property
     def dummy(self) -> Dummy:
+        """The target of this cell."""
         return DUMMIES[self.cell.target or self.spec.target]
 
     @property
     def impact_location(self) -> float:
+        """Impact location, a fraction of the VUT's width (or of its length for side impacts)."""
         return self.cell.impact_location if self.cell.impact_location is not None else self.spec.impact_location
 
     @property
     def target_speed_mps(self) -> float:
+        """The target's steady speed, m/s (the VUT's speed for a target driving ahead with a headway)."""
+        if self.spec.headway_s > 0:
+            return self.cell.vut_speed_kph * KPH
         kph = self.cell.target_speed_kph if self.cell.target_speed_kph is not None else self.spec.target_speed_kph
         return kph * KPH
 
@@ -94,8 +102,10 @@ class Nominal:
     impact_x_m: float
     impact_y_m: float
     time_s: float
-    lateral_m: float
-    """Nominal impact location on the VUT's leading edge, m left of its centre line."""
+    local_x_m: float
+    """The nominal impact location in the simulated VUT frame: ahead of the rectangle centre, m ..."""
+    local_y_m: float
+    """... and left of it, m (a reversing VUT is simulated mirrored: its travel direction is ahead)."""
     ref_behind_centre_m: float
     """The reference point lies this far behind the footprint centre along the target's heading, m."""
     target_heading_rad: float
@@ -115,25 +125,41 @@ class BuiltTest:
 def _ego_geometry(reverse: bool) -> tuple[float, float]:
     """(rear axle → leading edge, rear axle → rectangle centre) in the direction of travel, m."""
     length, wheelbase, rear = VUT["length_m"], VUT["wheelbase_m"], VUT["rear_overhang_m"]
-    back = length - wheelbase - rear if reverse else rear
-    return length - back, length / 2 - back
+    trailing = length - wheelbase - rear if reverse else rear
+    return length - trailing, length / 2 - trailing
+
+
+def _vut_point(test: NcapTest) -> tuple[float, float]:
+    """The point of the VUT the target meets, in the simulated frame: (ahead of the rear axle, left of the
+    centre line), m. Front impacts: `impact_location` of the width on the leading edge, 0 = the vehicle's
+    right edge (ISO 8855; for a reversing VUT, whose simulated frame is mirrored, the body's right edge).
+    Side impacts: `impact_location` of the length from the rear, on the left or right side."""
+    spec = test.spec
+    reverse = spec.layout == "reverse"
+    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
+    if spec.impact_side != "front":
+        along = test.impact_location * VUT["length_m"] - (VUT["length_m"] / 2 - rear_to_centre)
+        return along, (VUT["width_m"] / 2) * (1.0 if spec.impact_side == "left" else -1.0)
+    across = (test.impact_location - 0.5) * VUT["width_m"]
+    return rear_to_edge, -across if reverse else across
 
 
 def _footprint(test: NcapTest) -> tuple[float, float]:
     """(radius, distance of the footprint centre ahead of the reference point), m, for the face the VUT meets.
 
-    The circle has the target's half width; it sits at the box centre for crossing and turning targets,
-    against the rear face for targets ahead, against the front face for oncoming ones.
+    The circle has the target's half width and sits at the part of the target that meets the VUT: against
+    the rear face for targets ahead (reference: rear of the rear wheel / back), against the front face where
+    the reference is the front of the front wheel (turning and oncoming cyclists and motorcycles), else at the
+    box centre (crossing targets; pedestrians in turns, whose reference is the hip).
     """
-    dummy, layout = test.dummy, test.spec.layout
+    dummy, spec = test.dummy, test.spec
     radius = dummy.width_m / 2
-    if layout in ("longitudinal", "rear"):
+    if spec.layout in ("longitudinal", "rear"):
         centre, use = radius, "longitudinal"
-    elif layout == "oncoming":
+    elif spec.layout in ("turning", "oncoming") and "turning" in dummy.ref_from_rear_m:
         centre, use = dummy.length_m - radius, "turning"
     else:
-        centre = dummy.length_m / 2
-        use = "turning" if layout == "turning" and "turning" in dummy.ref_from_rear_m else "crossing"
+        centre, use = dummy.length_m / 2, "crossing"
     return radius, centre - dummy.ref_from_rear_m[use]
 
 
@@ -142,21 +168,22 @@ def _route_samples(ego: dict) -> np.ndarray:
     return sample_path(ego_route_spec(Ego.model_validate(ego)))
 
 
-def _crossing(samples: np.ndarray, lead_m: float, lateral_m: float, point, direction) -> tuple[float, np.ndarray]:
-    """First route station (m) where the VUT's point `lateral_m` left of the centre of its leading edge crosses
-    the line through `point` along `direction`, and that crossing point (world, m)."""
+def _crossing(
+    samples: np.ndarray, along_m: float, left_m: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[float, np.ndarray]:
+    """First route station (m) where the VUT's point (`along_m` ahead of the rear axle, `left_m` left of the
+    centre line) crosses the line through `point` along `direction`, and that crossing point (world, m)."""
     xy, tangent = samples[:, :2], samples[:, 2:4]
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    edge = xy + lead_m * tangent + lateral_m * normal
-    rel = edge - np.asarray(point, dtype=float)
+    moving = xy + along_m * tangent + left_m * normal
+    rel = moving - point
     side = direction[0] * rel[:, 1] - direction[1] * rel[:, 0]
     change = np.flatnonzero(np.sign(side[:-1]) * np.sign(side[1:]) <= 0)
     if len(change) == 0:
         raise ValueError("the VUT route never crosses the target path")
     i = int(change[0])
     frac = side[i] / (side[i] - side[i + 1]) if side[i] != side[i + 1] else 0.0
-    spacing = float(np.hypot(*(samples[1, :2] - samples[0, :2])))
-    return (i + frac) * spacing, edge[i] + frac * (edge[i + 1] - edge[i])
+    return (i + frac) * SAMPLE_SPACING_M, moving[i] + frac * (moving[i + 1] - moving[i])
 
 
 def ncap_turn_route(side: str, speed_kph: float, turn_at_m: float, exit_m: float) -> Route:
@@ -165,36 +192,35 @@ def ncap_turn_route(side: str, speed_kph: float, turn_at_m: float, exit_m: float
     if (side, speed_kph) not in TURN_PATHS:
         raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph:g} km/h; known: {sorted(TURN_PATHS)}")
     path = TURN_PATHS[side, speed_kph]
-    fields = {
-        "kind": "left" if side == "farside" else "right",
-        "turn_at_m": turn_at_m,
-        "radius_m": path.radius_m,
-        "angle_deg": path.arc_angle_deg,
-        "clothoid_angle_deg": path.clothoid_angle_deg,
-        "clothoid_entry_radius_m": path.entry_radius_m,
-    }
-    turn_length = Route(**fields, length_m=1e12).turn_length_m
-    return Route(**fields, length_m=turn_at_m + turn_length + exit_m)
+    alpha = math.radians(path.clothoid_angle_deg)
+    clothoid_m = 2 * alpha / (1 / path.entry_radius_m + 1 / path.radius_m)
+    turn_m = 2 * clothoid_m + path.radius_m * math.radians(path.arc_angle_deg)
+    return Route(
+        kind="left" if side == "farside" else "right",
+        turn_at_m=turn_at_m,
+        radius_m=path.radius_m,
+        angle_deg=path.arc_angle_deg,
+        clothoid_angle_deg=path.clothoid_angle_deg,
+        clothoid_entry_radius_m=path.entry_radius_m,
+        length_m=turn_at_m + turn_m + exit_m,
+    )
 
 
-def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
-    """Route mapping of a turning test: `approach_m` straight, the protocol turn, `after_m` straight."""
-    return ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, approach_m, after_m).model_dump()
-
-
-def _target_line(test: NcapTest) -> tuple[tuple[float, float], tuple[float, float]]:
+def _target_line(test: NcapTest) -> tuple[np.ndarray, np.ndarray]:
     """A point on the target's path and its unit direction (world frame)."""
     spec = test.spec
     if spec.layout == "crossing":
         junction_x = LANE_WIDTH_M / 2 if "junction" in spec.tags else 0.0
         if spec.side == "farside":
-            return (-junction_x, 0.0), (0.0, -1.0)
-        return (junction_x, 0.0), (0.0, 1.0)
+            return np.array([-junction_x, 0.0]), np.array([0.0, -1.0])
+        return np.array([junction_x, 0.0]), np.array([0.0, 1.0])
     if spec.layout in ("turning", "oncoming"):
         y = spec.target_line_m if spec.turn == "farside" else -spec.target_line_m
-        forward = spec.walks_with_vut and spec.layout == "turning"
-        return (0.0, y), ((1.0, 0.0) if forward else (-1.0, 0.0))
-    return (0.0, 0.0), (0.0, 1.0)  # longitudinal, rear, reverse: the impact plane x = 0
+        forward = spec.moves_with_vut and spec.layout == "turning"
+        return np.array([0.0, y]), np.array([1.0 if forward else -1.0, 0.0])
+    if spec.layout == "reverse":  # crossing the rear path from the body's right (the VUT faces +x)
+        return np.array([0.0, 0.0]), np.array([0.0, 1.0])
+    return np.array([0.0, 0.0]), np.array([1.0, 0.0])  # longitudinal, rear: ahead, same direction
 
 
 def _target_travel(test: NcapTest) -> str:
@@ -221,9 +247,10 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
     """The executable Scenario of one catalogue test, and its nominal impact."""
     spec = test.spec
     v = test.cell.vut_speed_kph * KPH
-    lateral = (test.impact_location - 0.5) * VUT["width_m"]
+    along, left = _vut_point(test)
     kind = _target_travel(test)
-    impact, direction, turn = _impact_point(test, lateral)
+    point, direction = _target_line(test)
+    impact, turn = _impact_point(test, along, left, point, direction)
     start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
     ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), turn)
     impact_time = station / v
@@ -232,42 +259,49 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
     v_target = test.target_speed_mps
     steady_from = 0.0
     if kind == "rest":
-        accel = spec.accel_distance_m
+        trigger_m = station - v * target_time
+        if trigger_m < 0.0:
+            raise ValueError(f"{test.test_id}: the VUT starts too late to synchronise the target")
+        accel_m = spec.accel_distance_m
         vru.update(
             top_speed_mps=v_target,
-            max_accel_mps2=v_target * v_target / (2 * accel),
-            trigger={"ego_route_m": station - v * target_time},
+            max_accel_mps2=v_target * v_target / (2 * accel_m) if accel_m > 0 else INSTANT_ACCEL_MPS2,
+            trigger={"ego_route_m": trigger_m},
         )
-        steady_from = impact_time - target_time + 2 * accel / v_target
+        steady_from = impact_time - target_time + 2 * accel_m / v_target
     elif kind == "flying":
         start = impact - direction * v_target * impact_time
         vru.update(top_speed_mps=v_target, initial_speed_mps=v_target, trigger={"at_time_s": 0.0})
     elif kind == "still":
         vru.update(top_speed_mps=0.0)
+        if spec.layout == "reverse":  # standing with its back to the VUT's path side: facing -y
+            direction = np.array([0.0, -1.0])
     else:
-        start, impact, impact_time = _braking_lead(test, v, station, lateral, vru)
-        ego["route"]["length_m"] = float(impact[0] - (_target_line(test)[0][0] - station)) + EXIT_LENGTH_M
+        start, impact, impact_time = _braking_lead(test, v, station, left, vru)
+        ego["route"]["length_m"] = float(impact[0] - (point[0] - station)) + EXIT_LENGTH_M
     centre = start + direction * centre_ahead
     heading = math.atan2(direction[1], direction[0])
     vru.update(start={"x_m": float(centre[0]), "y_m": float(centre[1])}, heading_deg=math.degrees(heading))
     scenario = Scenario.model_validate(_scenario_mapping(test, planner, v2x, ego, vru, impact, impact_time))
-    nominal = Nominal(float(impact[0]), float(impact[1]), impact_time, lateral, centre_ahead, heading, steady_from)
+    rear_to_centre = _ego_geometry(spec.layout == "reverse")[1]
+    nominal = Nominal(
+        float(impact[0]), float(impact[1]), impact_time, along - rear_to_centre, left, centre_ahead, heading,
+        steady_from,
+    )  # fmt: skip
     return BuiltTest(test, scenario, nominal)
 
 
-def _impact_point(test: NcapTest, lateral: float) -> tuple[np.ndarray, np.ndarray, tuple[float, float] | None]:
-    """Nominal impact point (world, m), the target's unit direction, and for turns (route distance from the
-    start of the turn to the impact, x of the turn start)."""
+def _impact_point(
+    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[np.ndarray, tuple[float, float] | None]:
+    """Nominal impact point (world, m) and, for turns, (route distance from the start of the turn to the
+    impact, x of the turn start). On straight roads the impact lies on the plane x = point x."""
     spec = test.spec
-    point, direction = _target_line(test)
     if spec.layout in ("turning", "oncoming"):
-        station, impact, turn_start_x = _turn_probe(test, lateral, point, direction)
-        return impact, np.array(direction), (station, turn_start_x)
-    if spec.layout == "reverse":  # travelling -x: the IL point lies `lateral` to the right in world terms
-        return np.array([point[0], LANE_Y_M - lateral]), np.array([0.0, -1.0]), None
-    if spec.layout in ("longitudinal", "rear"):
-        return np.array([point[0], LANE_Y_M + lateral]), np.array([1.0, 0.0]), None
-    return np.array([point[0], LANE_Y_M + lateral]), np.array(direction), None
+        station, impact, turn_start_x = _turn_probe(test, along, left, point, direction)
+        return impact, (station, turn_start_x)
+    travel_left = -1.0 if spec.layout == "reverse" else 1.0  # the left of a VUT travelling -x is -y
+    return np.array([point[0], LANE_Y_M + travel_left * left]), None
 
 
 def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
@@ -277,8 +311,8 @@ def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) 
         start = np.array([impact[0], LANE_Y_M - spec.lateral_offset_m * direction[1]])
     elif spec.layout == "longitudinal":
         start = impact - direction * (spec.accel_distance_m + spec.steady_distance_m)
-    else:  # turning and reversing: lateral_offset_m is the start → impact distance
-        start = impact - direction * spec.lateral_offset_m
+    else:
+        start = impact - direction * spec.start_to_impact_m
     distance = float(np.hypot(*(impact - start)))
     return start, _time_to_impact_from_rest(distance, spec.accel_distance_m, test.target_speed_mps)
 
@@ -288,16 +322,17 @@ def _vut(test: NcapTest, v: float, lead_time_s: float, turn: tuple[float, float]
     distance at the nominal impact (m). Reversing tests start 10 m before the collision point (V23)."""
     spec = test.spec
     reverse = spec.layout == "reverse"
-    lead, back = _ego_geometry(reverse)
+    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
     if turn is not None:
         station_from_turn, turn_start_x = turn
         approach = max(v * lead_time_s - station_from_turn, 5.0)
-        start_x, route = turn_start_x - approach + back, _turn_route(test, approach, EXIT_LENGTH_M)
+        start_x = turn_start_x - approach + rear_to_centre
+        route = _turn_route(test, approach, EXIT_LENGTH_M)
         station = approach + station_from_turn
     else:
         station = REVERSE_START_M if reverse else max(v * lead_time_s, 5.0)
         travel = -1.0 if reverse else 1.0
-        start_x = _target_line(test)[0][0] - travel * (station + lead - back)
+        start_x = _target_line(test)[0][0] - travel * (station + rear_to_edge - rear_to_centre)
         route = {"kind": "straight", "length_m": station + EXIT_LENGTH_M}
     ego = {**VUT, "start": {"x_m": start_x, "y_m": LANE_Y_M, "heading_deg": 0.0}, "cruise_speed_mps": v}
     ego["route"] = route
@@ -306,25 +341,40 @@ def _vut(test: NcapTest, v: float, lead_time_s: float, turn: tuple[float, float]
     return ego, station
 
 
-def _braking_lead(test: NcapTest, v: float, station: float, lateral: float, vru: dict):
+def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
+    """Route mapping of a turning test: `approach_m` straight, the protocol turn, `after_m` straight."""
+    return ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, approach_m, after_m).model_dump()
+
+
+def _braking_lead(
+    test: NcapTest, v: float, station: float, left: float, vru: dict
+) -> tuple[np.ndarray, np.ndarray, float]:
     """CMRb: the motorcycle drives ahead at the VUT's speed with the headway, brakes BRAKE_AFTER_S into the
     run and meets the non-reacting VUT; returns (start, impact point, impact time) and sets its profile."""
     spec = test.spec
+    decel = spec.target_decel_mps2
     front_x0 = _target_line(test)[0][0] - station
     gap = v * spec.headway_s
-    start = np.array([front_x0 + gap, LANE_Y_M + lateral])
-    impact_time = BRAKE_AFTER_S + min(math.sqrt(2 * gap / spec.target_decel_mps2), v / spec.target_decel_mps2)
-    travelled = v * impact_time - 0.5 * spec.target_decel_mps2 * (impact_time - BRAKE_AFTER_S) ** 2
+    start = np.array([front_x0 + gap, LANE_Y_M + left])
+    stop_s = v / decel
+    if 0.5 * decel * stop_s**2 >= gap:  # caught while still braking: gap = a·τ²/2
+        closing_s = math.sqrt(2 * gap / decel)
+    else:  # the motorcycle stops first; the VUT closes the rest at its speed
+        closing_s = stop_s + (gap - 0.5 * decel * stop_s**2) / v
+    impact_time = BRAKE_AFTER_S + closing_s
+    travelled = v * BRAKE_AFTER_S + v * min(closing_s, stop_s) - 0.5 * decel * min(closing_s, stop_s) ** 2
     vru.update(
         top_speed_mps=v,
         initial_speed_mps=v,
         trigger={"at_time_s": 0.0},
-        brake={"after_trigger_s": BRAKE_AFTER_S, "decel_mps2": spec.target_decel_mps2},
+        brake={"after_trigger_s": BRAKE_AFTER_S, "decel_mps2": decel},
     )
     return start, start + np.array([travelled, 0.0]), impact_time
 
 
-def _scenario_mapping(test: NcapTest, planner: str, v2x: bool, ego: dict, vru: dict, impact, impact_time) -> dict:
+def _scenario_mapping(
+    test: NcapTest, planner: str, v2x: bool, ego: dict, vru: dict, impact: np.ndarray, impact_time: float
+) -> dict:
     """The Scenario mapping around the VUT and the target: road, sensor, roadside unit, obstructions, timing."""
     spec = test.spec
     junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
@@ -350,25 +400,27 @@ def _scenario_mapping(test: NcapTest, planner: str, v2x: bool, ego: dict, vru: d
     return mapping
 
 
-def _turn_probe(test: NcapTest, lateral: float, point, direction) -> tuple[float, np.ndarray, float]:
+def _turn_probe(
+    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[float, np.ndarray, float]:
     """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into.
 
     Returns (route distance from the start of the turn to the impact, impact point, x of the turn start).
     """
-    lead, back = _ego_geometry(False)
-    probe = {**VUT, "start": {"x_m": back, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
+    rear_to_centre = _ego_geometry(False)[1]
     route = ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, 0.0, EXIT_LENGTH_M)
+    probe = {**VUT, "start": {"x_m": rear_to_centre, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
     probe["route"] = route.model_dump()
     samples = _route_samples(probe)
     exit_x = samples[math.ceil(route.turn_length_m / SAMPLE_SPACING_M), 0]  # where the exit straight begins
     turn_start_x = (LANE_WIDTH_M / 2 if test.spec.turn == "farside" else -LANE_WIDTH_M / 2) - exit_x
     samples[:, 0] += turn_start_x
     samples[:, 1] += LANE_Y_M
-    station, impact = _crossing(samples, lead, lateral, point, direction)
+    station, impact = _crossing(samples, along, left, point, direction)
     return station, impact, turn_start_x
 
 
-def obstruction_cars(kind: str, path_point, dummy: Dummy) -> list[dict]:
+def obstruction_cars(kind: str, path_point: np.ndarray, dummy: Dummy) -> list[dict]:
     """Parked obstruction vehicles of a scenario family as Scenario `obstacles` mappings (docs/euroncap.md).
 
     `path_point` is a point of the target's path (which runs along y); `dummy` sets the path's edge.

@@ -43,7 +43,7 @@ DUMMIES: dict[str, Dummy] = {
         0.50,
         1.80,
         # hip 0.36 m behind the front of the 0.60 m box (V23 VRU_collisionPointOffset); back for longitudinal
-        {"crossing": 0.24, "longitudinal": 0.0, "stationary": 0.24},
+        {"crossing": 0.24, "longitudinal": 0.0},
         "ISO 19206-2:2018 via V23 catalogs",
         ("virtual-box dimensions (protocol figures are images)",),
     ),
@@ -53,7 +53,7 @@ DUMMIES: dict[str, Dummy] = {
         0.711,
         0.298,
         1.154,
-        {"crossing": 0.711 - 0.396, "longitudinal": 0.0, "stationary": 0.711 - 0.396},
+        {"crossing": 0.711 - 0.396, "longitudinal": 0.0},
         "ISO 19206-2:2018 via V23 catalogs",
         ("virtual-box dimensions (protocol figures are images)",),
     ),
@@ -104,7 +104,6 @@ TURN_PATHS: dict[tuple[str, float], TurnPath] = {
     ("farside", 10.0): TurnPath(1500.0, 9.00, 20.62, 48.75),
     ("farside", 15.0): TurnPath(1500.0, 11.75, 20.93, 48.14),
     ("farside", 20.0): TurnPath(1500.0, 14.75, 21.79, 46.42),
-    ("farside", 25.0): TurnPath(1500.0, 14.75, 21.79, 46.42),
     ("nearside", 10.0): TurnPath(1500.0, 8.00, 22.85, 44.30),
 }
 """Keyed by (turn side, VUT speed in km/h). Farside = left turn, nearside = right turn (left-hand drive)."""
@@ -132,9 +131,15 @@ class NcapScenario:
     crossing — target crosses the VUT path from `side` starting `lateral_offset_m` from the VUT path
     centreline, accelerating over `accel_distance_m`; longitudinal / rear — target ahead in the VUT lane,
     `steady_distance_m` at constant speed before impact (0 speed: stationary); turning — VUT turns to `turn`,
-    target crosses the road turned into on a line `target_line_m` from the approach road's centre line;
-    oncoming — target comes towards the turning VUT in the opposite lane at constant speed; reverse — VUT
-    reverses towards a target crossing (or standing in) its rear path.
+    target moves on a line `target_line_m` from the approach road's centre line, parallel to it, in the VUT's
+    original direction if `moves_with_vut`, starting `start_to_impact_m` before the impact (or already at
+    speed when tagged "flying"); oncoming — target comes towards the turning VUT in the opposite lane at
+    constant speed; reverse — VUT reverses towards a target crossing its rear path (starting
+    `start_to_impact_m` away) or standing in it.
+
+    `impact_location` is a fraction of the VUT's width on its front (rear when reversing; 0 = right edge of
+    the vehicle, ISO 8855) or, when `impact_side` is "left" / "right", a fraction of its length along that
+    side measured from the rear (1 = front).
     """
 
     code: str
@@ -149,11 +154,13 @@ class NcapScenario:
     lighting: tuple[str, ...] = ("day",)
     side: Literal["nearside", "farside", "ahead", "oncoming"] = "nearside"
     lateral_offset_m: float = 0.0
+    start_to_impact_m: float = 0.0
+    impact_side: Literal["front", "left", "right"] = "front"
     accel_distance_m: float = 0.0
     steady_distance_m: float = 0.0
     turn: Literal["farside", "nearside"] | None = None
     target_line_m: float = 0.0
-    walks_with_vut: bool = True
+    moves_with_vut: bool = True
     obstruction: Literal["CPNCO", "CBNA", "CBNAO", "CBFA"] | None = None
     headway_s: float = 0.0
     target_decel_mps2: float = 0.0
@@ -270,7 +277,7 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="farside",
         target_line_m=9.5,
-        lateral_offset_m=9.5,
+        start_to_impact_m=9.5,
         accel_distance_m=2.0,
         sources="V23 CPTA; Q451 (10, 15, 20)",
     ),
@@ -285,9 +292,9 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="farside",
         target_line_m=9.5,
-        lateral_offset_m=6.0,
+        start_to_impact_m=6.0,
         accel_distance_m=2.0,
-        walks_with_vut=False,
+        moves_with_vut=False,
         sources="V23 CPTA; Q451",
     ),
     NcapScenario(
@@ -301,7 +308,7 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="nearside",
         target_line_m=9.5,
-        lateral_offset_m=6.0,
+        start_to_impact_m=6.0,
         accel_distance_m=2.0,
         sources="V23 CPTAns-50_10kph",
     ),
@@ -316,9 +323,9 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="nearside",
         target_line_m=9.5,
-        lateral_offset_m=9.5,
+        start_to_impact_m=9.5,
         accel_distance_m=2.0,
-        walks_with_vut=False,
+        moves_with_vut=False,
         sources="V23 CPTAno-50_10kph",
     ),
     NcapScenario(
@@ -329,7 +336,7 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         "EPTa",
         5.0,
         (Cell(4.0, "adult", "EPTa"), Cell(8.0, "child", "EPTc")),
-        lateral_offset_m=4.0,
+        start_to_impact_m=4.0,
         accel_distance_m=1.5,
         function="avoidance",
         unverified=("VUT start 10 m before the collision point (V23: not in the protocol)",),
@@ -442,7 +449,8 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         turn="farside",
         side="farside",
         target_line_m=5.0,
-        unverified=("all CBTA parameters (FC26 only)", "impact at 50 % of the front"),
+        impact_side="left",
+        unverified=("all CBTA parameters (FC26 only)", "side impact at 50 % of the VUT length"),
         sources="FC26",
         tags=("flying",),
     ),
@@ -472,7 +480,8 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="nearside",
         target_line_m=5.0,
-        unverified=("all CBTA parameters (FC26 only)", "impact at 50 % of the front"),
+        impact_side="right",
+        unverified=("all CBTA parameters (FC26 only)", "side impact at 50 % of the VUT length"),
         sources="FC26",
         tags=("flying",),
     ),
@@ -487,8 +496,8 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="nearside",
         target_line_m=5.0,
-        walks_with_vut=False,
-        unverified=("all CBTA parameters (FC26 only)", "impact at 50 % of the front"),
+        moves_with_vut=False,
+        unverified=("all CBTA parameters (FC26 only)",),
         sources="FC26",
         tags=("flying",),
     ),
@@ -600,8 +609,9 @@ SCENARIOS: tuple[NcapScenario, ...] = (
         turn="farside",
         side="farside",
         target_line_m=5.0,
+        impact_side="left",
         extension=True,
-        sources="vrusim extension of CBTAfs",
+        sources="vrusim extension of CBTAfs (side impact at 50 % of the VUT length)",
         tags=("flying",),
     ),
 )

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from vrusim.catalog.ncap_protocol import SCENARIOS
+from vrusim.catalog.ncap_protocol import BY_CODE, SCENARIOS
 
 COLOURS = ("green", "yellow", "orange", "brown", "red")
 """Euro NCAP result colours, best first."""
@@ -88,52 +88,86 @@ def _flag(*reasons: str) -> str:
     return "UNVERIFIED: " + "; ".join(reasons)
 
 
-_ENTRIES: tuple[PointsEntry, ...] = (
-    # pedestrian: CPLA day/night 1.0 + 0.125 each; AEB 50 % 20:5:60 (9 cells) + FCW 25 % 50:5:80 (7 cells)
-    PointsEntry("CPLA-50", "day", "pedestrian", "CPLA", 1.125, 9, 16, _flag(_SPLIT)),
-    PointsEntry("CPLA-25", "day", "pedestrian", "CPLA", 1.125, 7, 16, _flag(_SPLIT)),
-    PointsEntry("CPLA-50", "night", "pedestrian", "CPLA", 1.125, 9, 16, _flag(_SPLIT)),
-    PointsEntry("CPLA-25", "night", "pedestrian", "CPLA", 1.125, 7, 16, _flag(_SPLIT, _NIGHT)),
+_SPLIT_TABLE: tuple[tuple[str, str, str, float, str], ...] = (
+    # (scenario, lighting, FC26 family, FC26 points of the family at this lighting, UNVERIFIED note)
+    # pedestrian: CPLA day/night 1.0 + 0.125 each
+    ("CPLA-50", "day", "CPLA", 1.125, _flag(_SPLIT)),
+    ("CPLA-25", "day", "CPLA", 1.125, _flag(_SPLIT)),
+    ("CPLA-50", "night", "CPLA", 1.125, _flag(_SPLIT)),
+    ("CPLA-25", "night", "CPLA", 1.125, _flag(_SPLIT, _NIGHT)),
     # CPTA 2.5 (day): farside fs/fo at 10/15/20, nearside ns/no at 10
-    PointsEntry("CPTAfs", "day", "pedestrian", "CPTA", 2.5, 3, 8, _flag(_SPLIT)),
-    PointsEntry("CPTAfo", "day", "pedestrian", "CPTA", 2.5, 3, 8, _flag(_SPLIT)),
-    PointsEntry("CPTAns", "day", "pedestrian", "CPTA", 2.5, 1, 8, _flag(_SPLIT)),
-    PointsEntry("CPTAno", "day", "pedestrian", "CPTA", 2.5, 1, 8, _flag(_SPLIT)),
+    ("CPTAfs", "day", "CPTA", 2.5, _flag(_SPLIT)),
+    ("CPTAfo", "day", "CPTA", 2.5, _flag(_SPLIT)),
+    ("CPTAns", "day", "CPTA", 2.5, _flag(_SPLIT)),
+    ("CPTAno", "day", "CPTA", 2.5, _flag(_SPLIT)),
     # crossing: CPNA and CPFA 0.5 + 0.0625 per lighting, CPNCO 1.0 + 0.125 per lighting; 10:5:60 (11 cells)
-    PointsEntry("CPNA-25", "day", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
-    PointsEntry("CPNA-75", "day", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
-    PointsEntry("CPNA-25", "night", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
-    PointsEntry("CPNA-75", "night", "pedestrian", "CPNA", 0.5625, 11, 22, _flag(_SPLIT)),
-    PointsEntry("CPFA-50", "day", "pedestrian", "CPFA", 0.5625, 11, 11, _flag(_SPLIT)),
-    PointsEntry("CPFA-50", "night", "pedestrian", "CPFA", 0.5625, 11, 11, _flag(_SPLIT, _NIGHT)),
-    PointsEntry("CPNCO-50", "day", "pedestrian", "CPNCO", 1.125, 11, 11, _flag(_SPLIT)),
-    PointsEntry("CPNCO-50", "night", "pedestrian", "CPNCO", 1.125, 11, 11, _flag(_SPLIT)),
+    ("CPNA-25", "day", "CPNA", 0.5625, _flag(_SPLIT)),
+    ("CPNA-75", "day", "CPNA", 0.5625, _flag(_SPLIT)),
+    ("CPNA-25", "night", "CPNA", 0.5625, _flag(_SPLIT)),
+    ("CPNA-75", "night", "CPNA", 0.5625, _flag(_SPLIT)),
+    ("CPFA-50", "day", "CPFA", 0.5625, _flag(_SPLIT)),
+    ("CPFA-50", "night", "CPFA", 0.5625, _flag(_SPLIT, _NIGHT)),
+    ("CPNCO-50", "day", "CPNCO", 1.125, _flag(_SPLIT)),
+    ("CPNCO-50", "night", "CPNCO", 1.125, _flag(_SPLIT)),
     # reverse (LSC26 in 2026, no FC26 points): Cm 2 cells (4/adult, 8/child), Cs 6 cells
-    PointsEntry("CPRA-Cm", "day", "pedestrian", "CPRA", 1.15625, 2, 8, _flag(_CPRA)),
-    PointsEntry("CPRA-Cs", "day", "pedestrian", "CPRA", 1.15625, 6, 8, _flag(_CPRA)),
+    ("CPRA-Cm", "day", "CPRA", 1.15625, _flag(_CPRA)),
+    ("CPRA-Cs", "day", "CPRA", 1.15625, _flag(_CPRA)),
     # cyclist: CBLA 2.0 + 0.25 (day); AEB 50 % 25:5:60 (8 cells) + FCW 25 % 50:5:80 (7 cells)
-    PointsEntry("CBLA-50", "day", "cyclist", "CBLA", 2.25, 8, 15, _flag(_SPLIT)),
-    PointsEntry("CBLA-25", "day", "cyclist", "CBLA", 2.25, 7, 15, _flag(_SPLIT)),
-    PointsEntry("CBTAfs", "day", "cyclist", "CBTA", 2.5, 3, 8, _flag(_SPLIT, _CBTA)),
-    PointsEntry("CBTAfo", "day", "cyclist", "CBTA", 2.5, 3, 8, _flag(_SPLIT, _CBTA)),
-    PointsEntry("CBTAns", "day", "cyclist", "CBTA", 2.5, 1, 8, _flag(_SPLIT, _CBTA)),
-    PointsEntry("CBTAno", "day", "cyclist", "CBTA", 2.5, 1, 8, _flag(_SPLIT, _CBTA)),
-    PointsEntry("CBNA-50", "day", "cyclist", "CBNA", 1.25, 11, 11, _flag(_SPLIT)),
-    PointsEntry("CBFA-50", "day", "cyclist", "CBFA", 1.25, 11, 11, _flag(_SPLIT)),
-    PointsEntry("CBNAO-50", "day", "cyclist", "CBNAO", 2.5, 11, 11, _flag(_SPLIT)),
+    ("CBLA-50", "day", "CBLA", 2.25, _flag(_SPLIT)),
+    ("CBLA-25", "day", "CBLA", 2.25, _flag(_SPLIT)),
+    ("CBTAfs", "day", "CBTA", 2.5, _flag(_SPLIT, _CBTA)),
+    ("CBTAfo", "day", "CBTA", 2.5, _flag(_SPLIT, _CBTA)),
+    ("CBTAns", "day", "CBTA", 2.5, _flag(_SPLIT, _CBTA)),
+    ("CBTAno", "day", "CBTA", 2.5, _flag(_SPLIT, _CBTA)),
+    ("CBNA-50", "day", "CBNA", 1.25, _flag(_SPLIT)),
+    ("CBFA-50", "day", "CBFA", 1.25, _flag(_SPLIT)),
+    ("CBNAO-50", "day", "CBNAO", 2.5, _flag(_SPLIT)),
     # motorcyclist: CMRs 1.5, CMRb 2.0, CMFtap 5.0
     # CMRs: AEB rows 10:10:50 (5 cells, code CMRs) and FCW rows 60:10:80 (3 cells, code CMRs-FCW)
-    PointsEntry("CMRs", "day", "motorcyclist", "CMRs", 1.5, 5, 8, _flag(_SPLIT, _GRID)),
-    PointsEntry("CMRs-FCW", "day", "motorcyclist", "CMRs", 1.5, 3, 8, _flag(_SPLIT, _GRID)),
-    PointsEntry("CMRb", "day", "motorcyclist", "CMRb", 2.0, 1, 1, _flag(_SPLIT, _GRID)),
-    PointsEntry("CMFtap", "day", "motorcyclist", "CMFtap", 5.0, 1, 1, _flag(_SPLIT)),
+    ("CMRs", "day", "CMRs", 1.5, _flag(_SPLIT, _GRID)),
+    ("CMRs-FCW", "day", "CMRs", 1.5, _flag(_SPLIT, _GRID)),
+    ("CMRb", "day", "CMRb", 2.0, _flag(_SPLIT, _GRID)),
+    ("CMFtap", "day", "CMFtap", 5.0, _flag(_SPLIT)),
 )
+
+
+def _entries(table: tuple[tuple[str, str, str, float, str], ...]) -> tuple[PointsEntry, ...]:
+    """PointsEntries with the group and the cell counts read from the protocol tables (one source of truth):
+    a code's share of its family is its grid cells over the family's cells at the same lighting."""
+    family_cells: dict[tuple[str, str], int] = {}
+    for scenario, lighting, family, _, _ in table:
+        family_cells[family, lighting] = family_cells.get((family, lighting), 0) + len(BY_CODE[scenario].cells)
+    return tuple(
+        PointsEntry(
+            scenario,
+            lighting,
+            BY_CODE[scenario].group,
+            family,
+            points,
+            len(BY_CODE[scenario].cells),
+            family_cells[family, lighting],
+            note,
+        )
+        for scenario, lighting, family, points, note in table
+    )
+
+
+_ENTRIES = _entries(_SPLIT_TABLE)
 
 ESCOOTER_POINTS_PER_SCENARIO = 1.0
 """Nominal frame of our e-scooter extension: 1 point per (scenario, lighting); not Euro NCAP points."""
 ESCOOTER_NOTE = "EXTENSION: not a Euro NCAP test; nominal 1 point per scenario, outside the Euro NCAP total"
 _ESCOOTER_ENTRIES: tuple[PointsEntry, ...] = tuple(
-    PointsEntry(spec.code, lighting, "escooter", spec.code, ESCOOTER_POINTS_PER_SCENARIO, 1, 1, ESCOOTER_NOTE)
+    PointsEntry(
+        spec.code,
+        lighting,
+        "escooter",
+        spec.code,
+        ESCOOTER_POINTS_PER_SCENARIO,
+        len(spec.cells),
+        len(spec.cells),
+        ESCOOTER_NOTE,
+    )
     for spec in SCENARIOS
     if spec.group == "escooter"
     for lighting in spec.lighting

@@ -190,8 +190,8 @@ def assess_test(row: Mapping) -> AssessedTest:
     criterion = _criterion(row["function"], vut_kph, planner_warns)
     if criterion == CRITERION_FCW:
         colour = "green" if warning is not None and warning >= FCW_MIN_TTC_S else "red"
-    elif criterion == CRITERION_AVOIDANCE:
-        colour = "red" if collided else "green"
+    elif criterion == CRITERION_AVOIDANCE:  # V_impact = 0: a VUT that has stopped may be touched (FC26)
+        colour = "red" if collided and impact_kph > 0.0 else "green"
     else:
         colour = band_colour(vut_kph, relative)
     return AssessedTest(
