@@ -19,7 +19,7 @@ from rich.text import Text
 
 from vrusim.atomic_io import write_atomically
 from vrusim.catalog.ncap_scoring import POINTS_ENTRIES
-from vrusim.metrics.ncap import CRITERION_FCW, AssessedTest, Assessment, GroupScore
+from vrusim.metrics.ncap import CRITERION_AVOIDANCE, CRITERION_FCW, AssessedTest, Assessment, GroupScore
 
 COLOUR_HEX: dict[str, str] = {
     "green": "#3aa845",
@@ -32,7 +32,8 @@ COLOUR_HEX: dict[str, str] = {
 """Cell fill per Euro NCAP colour; "untested" for grid cells without a test."""
 _LIGHT_TEXT = ("brown", "red")
 CAPTION = (
-    "Cells: relative impact speed (km/h); ✓ avoided; FCW cells: warning TTC; grey: not tested.\n"
+    "Cells: relative impact speed (km/h; avoidance-only rows: impact speed); ✓ avoided; FCW cells: warning TTC;"
+    " grey: not tested.\n"
     "Bands: 2026 protocol (v4.5.1 thresholds UNVERIFIED); split of points per scenario UNVERIFIED."
 )
 
@@ -49,15 +50,17 @@ Row = tuple[str, str, str]
 
 def cell_text(test: AssessedTest, compact: bool = False) -> str:
     """What a cell shows: the warning TTC for FCW-judged cells, "✓" when avoided, else the relative impact
-    speed (km/h; `compact`: whole km/h from 10 up, for the terminal)."""
+    speed — the impact speed for avoidance-only cells, which it decides (km/h; `compact`: whole km/h from 10
+    up, for the terminal)."""
     if test.criterion == CRITERION_FCW:
         if test.warning_ttc_s is None:
             return "–" if compact else "no FCW"
         return f"{test.warning_ttc_s:.1f}" + ("s" if compact else " s")
     if not test.collided:
         return "✓"
-    relative = test.relative_impact_speed_kph
-    return f"{relative:.0f}" if compact and relative >= 10.0 else f"{relative:.1f}"
+    speed = test.impact_speed_kph if test.criterion == CRITERION_AVOIDANCE else test.relative_impact_speed_kph
+    speed = speed or 0.0
+    return f"{speed:.0f}" if compact and speed >= 10.0 else f"{speed:.1f}"
 
 
 def row_label(row: Row) -> str:
