@@ -9,8 +9,9 @@ from __future__ import annotations
 import math
 from typing import Any, Literal, Self
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
+from vrusim.scenario.v2x_channel import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 
@@ -219,7 +220,17 @@ class V2X(_Frozen):
     rsu: Point | None = None
     comm_range_m: float = Field(50.0, gt=0, description="ego receives messages within this distance of the RSU")
     coverage_range_m: float = Field(50.0, gt=0, description="RSU perceives VRUs within this distance")
-    channel: Literal["ideal"] = "ideal"
+    channel: str | ChannelSpec = Field("ideal", description="a profile name (V2X_PROFILES) or a channel spec")
+
+    @field_validator("channel", mode="wrap")
+    @classmethod
+    def _known_channel(cls, value: Any, handler: ValidatorFunctionWrapHandler) -> str | ChannelSpec:
+        return check_channel(value)
+
+    @property
+    def channel_spec(self) -> ChannelSpec:
+        """The channel's specification (a profile name resolved)."""
+        return resolve_channel(self.channel)
 
     @model_validator(mode="after")
     def _rsu_when_enabled(self) -> Self:

@@ -3,7 +3,8 @@
 The RSU knows the state of every VRU within `coverage_range_m` of it. The ego receives the RSU's VRU
 awareness messages while the centre of its rectangle is within `comm_range_m` of the RSU. What reaches the
 planner passes through a channel object; `IdealChannel` delivers every message at once and intact (the
-paper's assumption). A realistic channel implements the same `deliver` method.
+paper's assumption). `RealisticChannel` (`sim/v2x_channel.py`) adds message generation rules, delay, loss,
+outages, RSU perception error and the ego's track memory, as each scenario's `v2x.channel` specifies.
 """
 
 from __future__ import annotations
@@ -21,11 +22,17 @@ from vrusim.sim.kernels import batch_kernel
 @dataclass
 class V2xMessages:
     """VRU states as received by each ego: `received` [B, K] marks valid entries, `kinematics` [6, B, K] holds
-    position, velocity and acceleration (rows of `vrusim.sim.state.KINEMATICS`), `age_s` [B, K] their age."""
+    position, velocity and acceleration (rows of `vrusim.sim.state.KINEMATICS`), `age_s` [B, K] their age.
+
+    What the RSU sends also says which VRUs it perceives (`covered` [B, K], whether or not the ego is in
+    range) and how far each ego is from it (`link_distance_m` [B]); channels that need neither ignore them.
+    """
 
     received: np.ndarray
     kinematics: np.ndarray
     age_s: np.ndarray
+    covered: np.ndarray | None = None
+    link_distance_m: np.ndarray | None = None
 
 
 class Channel(Protocol):
@@ -48,8 +55,12 @@ class IdealChannel:
 
 
 def make_channel(params: BatchParams) -> Channel:
-    """The V2X channel of a batch."""
-    return IdealChannel()
+    """The V2X channel of a batch: `IdealChannel` when every variant with V2X on uses an ideal channel."""
+    if all(not s.v2x.enabled or s.v2x.channel_spec.is_ideal for s in params.scenarios):
+        return IdealChannel()
+    from vrusim.sim.v2x_channel import RealisticChannel  # imports this module
+
+    return RealisticChannel()
 
 
 def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessages:
@@ -58,6 +69,8 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessa
     The message arrays may be views of the simulation state: a channel that keeps messages must copy them.
     """
     received = np.empty(vru_kinematics.shape[1:], dtype=bool)
+    covered = np.empty(received.shape, dtype=bool)
+    link_distance = np.empty(params.size)
     _coverage(
         params.size,
         params.v2x_enabled,
@@ -71,18 +84,22 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessa
         vru_kinematics[0],
         vru_kinematics[1],
         received,
+        covered,
+        link_distance,
     )
-    return V2xMessages(received, vru_kinematics, np.zeros(received.shape))
+    return V2xMessages(received, vru_kinematics, np.zeros(received.shape), covered, link_distance)
 
 
 @batch_kernel
 def _coverage(
-    enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received
+    enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
 ):  # pragma: no cover (compiled)
     B, K = vru_x.shape
     for b in prange(B):
         ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
+        link[b] = np.sqrt(ex * ex + ey * ey)
         in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
         for k in range(K):
             vx, vy = vru_x[b, k] - rsu_x[b], vru_y[b, k] - rsu_y[b]
-            received[b, k] = in_range and valid[b, k] and vx * vx + vy * vy <= coverage[b] * coverage[b]
+            covered[b, k] = enabled[b] and valid[b, k] and vx * vx + vy * vy <= coverage[b] * coverage[b]
+            received[b, k] = in_range and covered[b, k]
