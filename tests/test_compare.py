@@ -59,3 +59,22 @@ def test_bad_options_are_user_errors(args, names):
     for name in names:
         assert name in result.output
     assert "Traceback" not in result.output
+
+
+def test_user_profiles_from_a_file_are_compared_by_name(tmp_path):
+    """A 1 s latency profile defined in YAML: the first V2X message arrives 1 s after the ideal one."""
+    profiles = tmp_path / "profiles.yaml"
+    profiles.write_text("slow:\n  generation: {mode: every_step}\n  latency_s: 1.0\n  track_max_age_s: 2.0\n")
+    result = invoke("compare", PEDESTRIAN, "--v2x", "ideal,slow", "--profiles", profiles, "--json")
+    assert result.exit_code == 0, result.output
+    rows = {r["v2x"]: r for r in json.loads(result.stdout)}
+    assert rows["slow"]["mean_first_v2x_message_s"] == pytest.approx(rows["ideal"]["mean_first_v2x_message_s"] + 1.0)
+
+
+def test_a_random_channel_gives_a_distribution_over_seeds():
+    result = invoke("compare", PEDESTRIAN, "--v2x", "lossy", "--seeds", "20", "--json")
+    assert result.exit_code == 0, result.output
+    (row,) = json.loads(result.stdout)
+    assert row["runs"] == 20
+    low, high = row["collision_probability_95"]
+    assert low <= row["collision_probability"] <= high
