@@ -19,7 +19,6 @@ from vrusim.catalog.ncap_protocol import (
     DUMMIES,
     KPH,
     LANE_WIDTH_M,
-    NIGHT_SENSOR_RANGE_FACTOR,
     OBSTRUCTION_CARS,
     OBSTRUCTIONS,
     TURN_PATHS,
@@ -378,13 +377,12 @@ def _scenario_mapping(
     """The Scenario mapping around the VUT and the target: road, sensor, roadside unit, obstructions, timing."""
     spec = test.spec
     junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
-    sensor_range = SENSOR_RANGE_M * (NIGHT_SENSOR_RANGE_FACTOR if test.lighting == "night" else 1.0)
     mapping = {
         "name": test.test_id,
         "description": f"Euro NCAP {spec.code}: {spec.description}",
         "road": {"layout": "intersection" if junction else "straight", "lane_width_m": LANE_WIDTH_M},
         "ego": ego,
-        "sensor": {"range_m": sensor_range, "fov_deg": SENSOR_FOV_DEG},
+        "sensor": {"range_m": SENSOR_RANGE_M, "fov_deg": SENSOR_FOV_DEG, "lighting": test.lighting},
         "v2x": {
             "enabled": v2x,
             "rsu": {"x_m": float(impact[0] + RSU_OFFSET_M[0]), "y_m": float(impact[1] + RSU_OFFSET_M[1])},

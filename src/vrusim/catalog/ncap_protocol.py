@@ -619,8 +619,6 @@ SCENARIOS: tuple[NcapScenario, ...] = (
 
 BY_CODE: dict[str, NcapScenario] = {s.code: s for s in SCENARIOS}
 
-NIGHT_SENSOR_RANGE_FACTOR = 0.5
-"""Night: the onboard sensor's range is scaled by this (vrusim assumption, no protocol source; docs/euroncap.md)."""
 
 LANE_WIDTH_M = 3.5
 """Lane width of the straight road and the junction arms (FC26: main approach lane 3.5 m)."""

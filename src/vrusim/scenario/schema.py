@@ -206,11 +206,33 @@ def _corners(pose: Pose, length_m: float, width_m: float) -> list[tuple[float, f
 
 
 class Sensor(_Frozen):
-    """Onboard sector sensor with its apex at the centre of the front bumper."""
+    """Onboard sector sensor with its apex at the centre of the front bumper.
+
+    The defaults are the ideal sensor (no latency, no missed detection, no noise, daylight); the realism
+    fields are modelled in `sim/sensor_model.py` (docs/models.md, "Sensor model").
+    """
 
     enabled: bool = True
     range_m: float = Field(20.0, gt=0)
     fov_deg: float = Field(120.0, gt=0, le=360, description="full opening angle, in (0, 360]")
+    latency_s: float = Field(
+        0.0, ge=0, le=10, description="the report at t describes the world at t - latency (whole steps)"
+    )
+    detection_probability: float = Field(
+        1.0, gt=0, le=1, description="chance that a visible VRU is detected in a frame, independent draws"
+    )
+    position_sigma_m: float = Field(0.0, ge=0, description="std of the Gaussian noise per position axis, m")
+    velocity_sigma_mps: float = Field(0.0, ge=0, description="std of the Gaussian noise per velocity axis, m/s")
+    frame_rate_hz: float | None = Field(
+        None, gt=0, description="new detections at this rate (period in whole steps); None: every step"
+    )
+    lighting: Literal["day", "night"] = "day"
+    night_range_factor: float = Field(0.5, gt=0, le=1, description="range at night = range_m x factor")
+
+    @property
+    def effective_range_m(self) -> float:
+        """Range of the sector under the scenario's lighting, m: `range_m`, times `night_range_factor` at night."""
+        return self.range_m * self.night_range_factor if self.lighting == "night" else self.range_m
 
 
 class V2X(_Frozen):

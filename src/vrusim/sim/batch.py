@@ -184,7 +184,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         route_offset=route_rows * routes.width,
         route_length_m=ego_array(lambda s: s.ego.route.length_m),
         sensor_enabled=np.array([s.sensor.enabled for s in scenarios]),
-        sensor_range_m=ego_array(lambda s: s.sensor.range_m),
+        sensor_range_m=ego_array(lambda s: s.sensor.effective_range_m),
         sensor_cos_half=np.cos(half_fov),
         sensor_sin_half=np.sin(half_fov),
         obstacles=pack_obstacles([s.obstacles for s in scenarios]),

@@ -4,8 +4,9 @@ The field of view is a circular sector with its apex at the centre of the front 
 heading, of radius `range_m` and full opening angle `fov_deg`. A VRU counts as perceived in a step when any
 part of its footprint circle lies inside the sector, i.e. when the distance from its centre to the (filled)
 sector is at most its radius, and some part of the footprint is in the apex's line of sight past the
-variant's static obstacles (`sim/occlusion.py`). The sensor is ideal: a perceived VRU's true position,
-velocity and acceleration are reported.
+variant's static obstacles (`sim/occlusion.py`). At night the packed range is already reduced
+(`Sensor.effective_range_m`). This is geometric visibility only: what the sensor reports (latency, missed
+detections, noise) is decided by the sensor model (`sim/sensor_model.py`).
 """
 
 from __future__ import annotations
