@@ -143,7 +143,9 @@ def ncap(
         list[str] | None,
         typer.Option("--scenario", help="Catalogue code or prefix (repeatable), e.g. CPNA-25, CPTA, CB. Default: all."),
     ] = None,
-    planner: Annotated[str, typer.Option("--planner", help="fsm, none or module:Class.")] = "fsm",
+    planner: Annotated[
+        str, typer.Option("--planner", help="fsm, none, aeb, predictive, module:Class or an entry-point name.")
+    ] = "fsm",
     v2x: Annotated[V2XSwitch, typer.Option("--v2x", case_sensitive=False, help="Roadside unit on or off.")] = (
         V2XSwitch.off
     ),

@@ -25,11 +25,10 @@ from __future__ import annotations
 
 import numpy as np
 from numba import prange
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
-from vrusim.errors import UserInputError
 from vrusim.planners.conflict import new_tracks, track_and_analyse
-from vrusim.scenario.loading import field_path
+from vrusim.planners.params import validate_params
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
@@ -61,16 +60,7 @@ class FsmParams(BaseModel):
 
 def planner_params(params: BatchParams) -> list[FsmParams]:
     """Validate each variant's planner parameters, naming the offending field on error."""
-    out = []
-    for scenario in params.scenarios:
-        try:
-            out.append(FsmParams.model_validate(scenario.planner.params))
-        except ValidationError as error:
-            item = error.errors(include_url=False)[0]
-            where = field_path(("planner", "params", *item["loc"]))
-            message = "unknown field" if item["type"] == "extra_forbidden" else item["msg"]
-            raise UserInputError(f"{scenario.name}: {where}: {message}") from None
-    return out
+    return validate_params(FsmParams, params)
 
 
 class FsmPlanner:

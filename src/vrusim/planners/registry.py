@@ -1,35 +1,84 @@
-"""Find a planner by name: built-ins (`fsm`, `none`) or any class given as `module:Class`."""
+"""Find a planner by name: a built-in, a class given as `module:Class`, or one registered as an entry point.
+
+Look-up order for `planner.name`: the built-ins (`fsm`, `none`, `aeb`, `predictive`; they cannot be shadowed),
+then `package.module:ClassName`, then the entry points of group `vrusim.planners` that installed distributions
+declare, e.g. in their pyproject.toml:
+
+    [project.entry-points."vrusim.planners"]
+    brake-on-detection = "mypkg.brake_on_detection:BrakeOnDetection"
+"""
 
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 from collections.abc import Callable
 
 from vrusim.errors import UserInputError
+from vrusim.planners.aeb import AebPlanner
 from vrusim.planners.base import HoldSpeedPlanner, Planner
 from vrusim.planners.fsm import FsmPlanner
+from vrusim.planners.predictive import PredictivePlanner
 
-BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {"fsm": FsmPlanner, "none": HoldSpeedPlanner}
+BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {
+    "fsm": FsmPlanner,
+    "none": HoldSpeedPlanner,
+    "aeb": AebPlanner,
+    "predictive": PredictivePlanner,
+}
+ENTRY_POINT_GROUP = "vrusim.planners"
+
+
+def registered_planners() -> dict[str, importlib.metadata.EntryPoint]:
+    """Planners that installed distributions register under the `vrusim.planners` entry-point group, by name."""
+    found: dict[str, importlib.metadata.EntryPoint] = {}
+    for entry in importlib.metadata.entry_points(group=ENTRY_POINT_GROUP):
+        if entry.name in found and found[entry.name].value != entry.value:
+            raise UserInputError(
+                f"planner.name: entry point {entry.name!r} of group {ENTRY_POINT_GROUP!r} is registered twice, "
+                f"as {found[entry.name].value!r} and {entry.value!r}"
+            )
+        found[entry.name] = entry
+    return found
 
 
 def make_planner(name: str) -> Planner:
-    """A new planner instance for `name` (a built-in name or `package.module:ClassName`)."""
+    """A new planner instance for `name` (a built-in name, `package.module:ClassName` or an entry-point name)."""
     if name in BUILTIN_PLANNERS:
         return BUILTIN_PLANNERS[name]()
-    if ":" not in name:
-        known = ", ".join(sorted(BUILTIN_PLANNERS))
-        raise UserInputError(f"planner.name: unknown planner {name!r}; expected one of {known} or module:Class")
+    if ":" in name:
+        return _instantiate(_import_class(name), repr(name))
+    registered = registered_planners()
+    if name in registered:
+        entry = registered[name]
+        where = f"{name!r} (entry point {entry.value!r})"
+        try:
+            cls = entry.load()
+        except Exception as error:  # a broken plug-in is the user's input, not our bug
+            raise UserInputError(f"planner.name: cannot load {where} ({error.__class__.__name__}: {error})") from None
+        return _instantiate(cls, where)
+    known = ", ".join([*BUILTIN_PLANNERS, *sorted(registered)])
+    raise UserInputError(
+        f"planner.name: unknown planner {name!r}; expected one of {known}, module:Class, or a name registered "
+        f"under the {ENTRY_POINT_GROUP!r} entry-point group"
+    )
+
+
+def _import_class(name: str) -> object:
     module_name, _, class_name = name.partition(":")
     try:
-        cls = getattr(importlib.import_module(module_name), class_name)
+        return getattr(importlib.import_module(module_name), class_name)
     except Exception as error:  # any failure to import a user's module is a bad name or a broken plug-in
         raise UserInputError(f"planner.name: cannot import {name!r} ({error.__class__.__name__}: {error})") from None
+
+
+def _instantiate(cls: object, where: str) -> Planner:
     if not isinstance(cls, type):
-        raise UserInputError(f"planner.name: {name!r} is not a class")
+        raise UserInputError(f"planner.name: {where} is not a class")
     try:
         planner = cls()
     except Exception as error:
-        raise UserInputError(f"planner.name: cannot create {name!r} without arguments ({error})") from None
+        raise UserInputError(f"planner.name: cannot create {where} without arguments ({error})") from None
     if not isinstance(planner, Planner):
-        raise UserInputError(f"planner.name: {name!r} has no reset(params) and act(observation) methods")
+        raise UserInputError(f"planner.name: {where} has no reset(params) and act(observation) methods")
     return planner

@@ -1,0 +1,203 @@
+"""A TTC-based automatic emergency brake (AEB) with forward-collision warning (FCW), vectorised over the batch.
+
+The ego holds its cruise speed. Every step it computes, for every tracked VRU, the time to collision along its
+route (`vrusim.planners.route_ttc`: the ego's rectangle driven on along its route at constant speed, the VRU's
+circle at constant velocity) and acts on the smallest, in stages as production AEB systems tested by Euro NCAP do:
+
+    TTC <= warning_ttc_s   warning        FCW on (`warning`), no braking
+    TTC <= partial_ttc_s   partial_brake  -partial_decel_mps2 (and FCW)
+    TTC <= full_ttc_s      full_brake     -full_decel_mps2 (and FCW)
+
+A stage is entered as soon as its threshold is reached. It is left only when the threat has cleared: when the
+TTC the ego would have on resuming its cruise speed (the higher of cruise and current speed) exceeds the stage's
+threshold plus `hysteresis_s`, or is infinite because the VRU has left the path. Braking is therefore held while
+a VRU is still in the path, through to a standstill if need be, and the ego resumes cruise once it has gone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+
+from vrusim.planners.conflict import new_tracks, update_track
+from vrusim.planners.params import param_table, validate_params
+from vrusim.planners.route_ttc import route_ttc
+from vrusim.sim.batch import BatchParams
+from vrusim.sim.kernels import batch_kernel
+from vrusim.sim.observation import Observation
+
+CRUISE, WARNING, PARTIAL_BRAKE, FULL_BRAKE = 0, 1, 2, 3
+
+
+class AebParams(BaseModel):
+    """Parameters of the AEB planner (YAML `planner.params`)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    warning_ttc_s: float = Field(2.6, gt=0, description="FCW at TTC <= this, s")
+    partial_ttc_s: float = Field(1.6, gt=0, description="partial braking at TTC <= this, s")
+    full_ttc_s: float = Field(0.9, gt=0, description="full braking at TTC <= this, s")
+    partial_decel_mps2: float = Field(4.0, gt=0)
+    full_decel_mps2: float = Field(9.0, gt=0)
+    hysteresis_s: float = Field(0.5, ge=0, description="a stage is left when TTC > its threshold + this, s")
+    cruise_accel_mps2: float = Field(1.5, gt=0)
+    cruise_decel_mps2: float = Field(2.0, gt=0, description="lower bound of the cruise speed-keeping command")
+    cruise_gain_per_s: float = Field(0.8, gt=0)
+    track_memory_s: float = Field(1.0, ge=0, description="how long a lost VRU is still considered, s")
+
+    @field_validator("partial_ttc_s")
+    @classmethod
+    def _partial_below_warning(cls, value: float, info: ValidationInfo) -> float:
+        warning = info.data.get("warning_ttc_s")
+        if warning is not None and value > warning:
+            raise ValueError(f"must be at most warning_ttc_s ({warning})")
+        return value
+
+    @field_validator("full_ttc_s")
+    @classmethod
+    def _full_below_partial(cls, value: float, info: ValidationInfo) -> float:
+        partial = info.data.get("partial_ttc_s")
+        if partial is not None and value > partial:
+            raise ValueError(f"must be at most partial_ttc_s ({partial})")
+        return value
+
+    @field_validator("full_decel_mps2")
+    @classmethod
+    def _full_above_partial(cls, value: float, info: ValidationInfo) -> float:
+        partial = info.data.get("partial_decel_mps2")
+        if partial is not None and value < partial:
+            raise ValueError(f"must be at least partial_decel_mps2 ({partial})")
+        return value
+
+
+PARAM_ORDER = tuple(AebParams.model_fields)
+(
+    _WARN_TTC,
+    _PARTIAL_TTC,
+    _FULL_TTC,
+    _PARTIAL_DECEL,
+    _FULL_DECEL,
+    _HYSTERESIS,
+    _CRUISE_ACCEL,
+    _CRUISE_DECEL,
+    _CRUISE_GAIN,
+    _MEMORY,
+) = range(len(PARAM_ORDER))
+
+
+class AebPlanner:
+    """Cruise / warning / partial brake / full brake on the smallest route TTC, per variant."""
+
+    mode_names = ("cruise", "warning", "partial_brake", "full_brake")
+
+    def reset(self, params: BatchParams) -> None:
+        """Read per-variant parameters; every variant starts in cruise with the warning off."""
+        self.table = param_table(validate_params(AebParams, params), PARAM_ORDER)
+        self.half_length, self.rear_to_centre = params.half_length_m, params.rear_to_centre_m
+        self.mode = np.zeros(params.size, dtype=np.int8)
+        self.warning = np.zeros(params.size, dtype=bool)
+        self.ttc_s = np.full(params.size, np.inf)
+        """The smallest route TTC of the last step, s (inf: no threat)."""
+        self.tracks: np.ndarray | None = None
+
+    def act(self, obs: Observation) -> np.ndarray:
+        """Stage each variant from its smallest TTC; return the acceleration command."""
+        if self.tracks is None:
+            self.tracks, _ = new_tracks(obs)
+        command = np.empty(self.mode.shape)
+        _aeb_step(
+            self.mode.shape[0],
+            obs.routes.arrays,
+            obs.route_offset,
+            obs.t_s,
+            obs.ego_station_m,
+            self.rear_to_centre,
+            obs.ego_speed_mps,
+            obs.cruise_speed_mps,
+            self.half_length,
+            obs.half_width_m,
+            obs.detected,
+            obs.vru_estimate,
+            obs.vru_radius_m,
+            self.table,
+            self.tracks,
+            self.mode,
+            self.ttc_s,
+            command,
+        )
+        self.warning = self.mode >= WARNING
+        return command
+
+
+@njit(cache=True, inline="always")
+def stage_of(ttc, p):  # pragma: no cover (compiled)
+    """The stage a TTC (s) calls for under parameter row `p`."""
+    if ttc <= p[_FULL_TTC]:
+        return FULL_BRAKE
+    if ttc <= p[_PARTIAL_TTC]:
+        return PARTIAL_BRAKE
+    if ttc <= p[_WARN_TTC]:
+        return WARNING
+    return CRUISE
+
+
+@batch_kernel
+def _aeb_step(
+    path,
+    offsets,
+    t,
+    rear_station,
+    rear_to_centre,
+    speed,
+    cruise_speed,
+    half_length,
+    half_width,
+    detected,
+    estimate,
+    radius,
+    p,
+    tracks,
+    mode,
+    ttc_out,
+    command,
+):  # pragma: no cover (compiled)
+    B, K = detected.shape
+    for b in prange(B):
+        v = speed[b]
+        resume = max(v, cruise_speed[b])
+        horizon = p[b, _WARN_TTC] + p[b, _HYSTERESIS]  # longer TTCs call for no stage
+        ttc, ttc_resume = np.inf, np.inf
+        for k in range(K):
+            known, x, y, vx, vy, _, _ = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
+            if not known:
+                continue
+            ttc = min(
+                ttc,
+                route_ttc(
+                    path, offsets[b], rear_station[b], v, rear_to_centre[b], half_length[b], half_width[b],
+                    x, y, vx, vy, radius[b, k], horizon,
+                ),
+            )  # fmt: skip
+            if mode[b] != CRUISE and resume > v:
+                ttc_resume = min(
+                    ttc_resume,
+                    route_ttc(
+                        path, offsets[b], rear_station[b], resume, rear_to_centre[b], half_length[b], half_width[b],
+                        x, y, vx, vy, radius[b, k], horizon,
+                    ),
+                )  # fmt: skip
+        ttc_resume = min(ttc_resume, ttc)
+        previous = mode[b]
+        stage = stage_of(ttc, p[b])
+        # escalate at once; keep a stage until resuming cruise would not call for it (hysteresis included)
+        stage = max(stage, min(previous, stage_of(ttc_resume - p[b, _HYSTERESIS], p[b])))
+        mode[b] = stage
+        ttc_out[b] = ttc
+        if stage == FULL_BRAKE:
+            command[b] = -p[b, _FULL_DECEL]
+        elif stage == PARTIAL_BRAKE:
+            command[b] = -p[b, _PARTIAL_DECEL]
+        else:
+            a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
+            command[b] = min(max(a, -p[b, _CRUISE_DECEL]), p[b, _CRUISE_ACCEL])

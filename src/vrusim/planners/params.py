@@ -1,0 +1,39 @@
+"""Planner parameters from YAML `planner.params`: pydantic validation per variant, errors naming the field."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TypeVar
+
+import numpy as np
+from pydantic import BaseModel, ValidationError
+
+from vrusim.errors import UserInputError
+from vrusim.scenario.loading import field_path
+from vrusim.sim.batch import BatchParams
+
+Model = TypeVar("Model", bound=BaseModel)
+
+
+def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
+    """Each variant's `planner.params` validated by `model`; the first error names the scenario and the field.
+
+    Message: `<scenario>: planner.params.<field>: <reason>` ("unknown field" for a name the model lacks).
+    """
+    out = []
+    for scenario in params.scenarios:
+        try:
+            out.append(model.model_validate(scenario.planner.params))
+        except ValidationError as error:
+            item = error.errors(include_url=False)[0]
+            where = field_path(("planner", "params", *item["loc"]))
+            message = "unknown field" if item["type"] == "extra_forbidden" else item["msg"]
+            raise UserInputError(f"{scenario.name}: {where}: {message}") from None
+    return out
+
+
+def param_table(per_variant: Sequence[BaseModel], names: Sequence[str]) -> np.ndarray:
+    """Numeric parameters as a [B, len(names)] float table for compiled kernels (column j = names[j])."""
+    return np.array([[float(getattr(p, name)) for name in names] for p in per_variant], dtype=float).reshape(
+        len(per_variant), len(names)
+    )

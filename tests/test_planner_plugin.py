@@ -1,0 +1,128 @@
+"""The worked example of docs/planners.md (examples/planner_plugin): by `module:Class` and by entry point,
+plus the registry's entry-point look-up and its errors (a fake distribution, nothing installed)."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import re
+from pathlib import Path
+
+import pytest
+
+from vrusim.catalog.paper import scenario_dir
+from vrusim.errors import UserInputError
+from vrusim.metrics.summary import summary_rows
+from vrusim.planners.fsm import FsmPlanner
+from vrusim.planners.registry import ENTRY_POINT_GROUP, make_planner
+from vrusim.scenario.loading import load_scenario
+from vrusim.sim.engine import simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "planner_plugin"
+DOCS = ROOT / "docs" / "planners.md"
+MODULE_PATH = "mypkg.brake_on_detection:BrakeOnDetection"
+
+
+def fake_entry_points(monkeypatch, **registered: str) -> None:
+    """Pretend installed distributions register `name = "module:Class"` under vrusim.planners (and others)."""
+    entries = [importlib.metadata.EntryPoint(name, value, ENTRY_POINT_GROUP) for name, value in registered.items()]
+    entries.append(importlib.metadata.EntryPoint("other", "os:getcwd", "some.other.group"))
+
+    def entry_points(**selection):
+        chosen = (e for e in entries if all(getattr(e, k) == v for k, v in selection.items()))
+        return importlib.metadata.EntryPoints(chosen)
+
+    monkeypatch.setattr(importlib.metadata, "entry_points", entry_points)
+
+
+@pytest.fixture
+def example_on_path(monkeypatch):
+    monkeypatch.syspath_prepend(str(EXAMPLE))
+
+
+def pedestrian(name: str, v2x: bool):
+    scenario = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").with_v2x(v2x)
+    planner = scenario.planner.model_copy(update={"name": name, "params": {"decel_mps2": 4.0}})
+    return scenario.model_copy(update={"planner": planner})
+
+
+def test_docs_show_the_example_file_verbatim():
+    text = DOCS.read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    example = (EXAMPLE / "mypkg" / "brake_on_detection.py").read_text()
+    assert example in blocks
+    entry_point = re.search(r'^brake-on-detection = "(.+)"$', (EXAMPLE / "pyproject.toml").read_text(), re.M)
+    assert entry_point is not None and entry_point.group(1) == MODULE_PATH
+    assert f'brake-on-detection = "{MODULE_PATH}"' in text
+
+
+def test_example_by_module_path_behaves_as_documented(example_on_path):
+    with_v2x, without = summary_rows(simulate([pedestrian(MODULE_PATH, True), pedestrian(MODULE_PATH, False)]))
+    assert with_v2x["first_mode_s"]["braking"] == pytest.approx(2.10)
+    assert not with_v2x["collided"]
+    assert with_v2x["min_clearance_m"] == pytest.approx(3.88, abs=0.005)
+    assert with_v2x["min_ttc_s"] == pytest.approx(1.39, abs=0.005)
+    assert with_v2x["trip_time_s"] == pytest.approx(28.24, abs=0.005)
+    scores = (with_v2x["safety"], with_v2x["efficiency"], with_v2x["comfort"])
+    assert scores == pytest.approx((0.93, 0.22, 0.81), abs=0.005)
+    assert without["first_mode_s"]["braking"] == pytest.approx(3.06)
+    assert without["collided"]
+    assert without["contact_time_s"] == pytest.approx(5.01, abs=0.005)
+    assert without["impact_ego_speed_mps"] == pytest.approx(7.69, abs=0.005)
+
+
+def test_example_by_entry_point_runs_the_same(monkeypatch, example_on_path):
+    fake_entry_points(monkeypatch, **{"brake-on-detection": MODULE_PATH})
+    by_name = summary_rows(simulate([pedestrian("brake-on-detection", True)]))[0]
+    by_path = summary_rows(simulate([pedestrian(MODULE_PATH, True)]))[0]
+    for key in ("first_mode_s", "collided", "min_clearance_m", "min_ttc_s", "safety", "efficiency", "comfort"):
+        assert by_name[key] == by_path[key], key
+    assert by_name["planner"] == "brake-on-detection"
+
+
+def test_unknown_name_lists_registered_planners(monkeypatch):
+    fake_entry_points(monkeypatch, mine="tests.warning_planner:WarnOnDetection")
+    with pytest.raises(UserInputError, match=r"planner\.name: unknown planner 'warp'; expected one of .*mine") as error:
+        make_planner("warp")
+    for builtin in ("fsm", "none", "aeb", "predictive"):
+        assert builtin in str(error.value)
+    assert "vrusim.planners" in str(error.value)
+    assert type(make_planner("mine")).__name__ == "WarnOnDetection"
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ("no_such_module_xyz:Planner", r"cannot load 'broken' \(entry point 'no_such_module_xyz:Planner'\)"),
+        ("os:getcwd", r"'broken' \(entry point 'os:getcwd'\) is not a class"),
+        ("vrusim.errors:UserInputError", r"has no reset\(params\) and act\(observation\) methods"),
+    ],
+)
+def test_broken_entry_points_are_user_errors_naming_planner_name(monkeypatch, value, message):
+    fake_entry_points(monkeypatch, broken=value)
+    with pytest.raises(UserInputError, match=rf"^planner\.name: .*{message}"):
+        make_planner("broken")
+
+
+def test_conflicting_registrations_are_a_user_error(monkeypatch):
+    entries = [
+        importlib.metadata.EntryPoint("twin", "a.b:C", ENTRY_POINT_GROUP),
+        importlib.metadata.EntryPoint("twin", "d.e:F", ENTRY_POINT_GROUP),
+    ]
+    monkeypatch.setattr(importlib.metadata, "entry_points", lambda **_: importlib.metadata.EntryPoints(entries))
+    with pytest.raises(UserInputError, match=r"planner\.name: entry point 'twin' .* registered twice"):
+        make_planner("twin")
+
+
+def test_builtins_cannot_be_shadowed_by_an_entry_point(monkeypatch):
+    fake_entry_points(monkeypatch, fsm="tests.warning_planner:WarnOnDetection")
+    assert isinstance(make_planner("fsm"), FsmPlanner)
+
+
+def test_entry_points_are_not_consulted_for_builtins_or_module_paths(monkeypatch):
+    def fail(**_):
+        raise AssertionError("entry points read")
+
+    monkeypatch.setattr(importlib.metadata, "entry_points", fail)
+    for name in ("fsm", "none", "aeb", "predictive", "tests.warning_planner:WarnOnDetection"):
+        make_planner(name)
