@@ -78,3 +78,11 @@ def test_a_random_channel_gives_a_distribution_over_seeds():
     assert row["runs"] == 20
     low, high = row["collision_probability_95"]
     assert low <= row["collision_probability"] <= high
+
+
+def test_other_planners_run_with_their_defaults():
+    """The paper file's FSM parameters do not apply to other planners: they run with their own defaults."""
+    result = invoke("compare", PEDESTRIAN, "--planners", "aeb,predictive", "--v2x", "ideal", "--json")
+    assert result.exit_code == 0, result.output
+    rows = {r["planner"]: r for r in json.loads(result.stdout)}
+    assert rows["aeb"]["collisions"] == rows["predictive"]["collisions"] == 0

@@ -45,10 +45,12 @@ def wilson_interval(successes: int, trials: int, z: float = 1.959964) -> tuple[f
 def variant(base: Scenario, combination: Combination, seed: int, channel: dict | str | None = None) -> Scenario:
     """The base scenario with the combination's planner, V2X setting and seed (validated again).
 
+    The scenario's `planner.params` apply to its own planner; any other planner runs with its defaults.
     `channel` overrides the profile by an inline channel specification (user profiles from a file).
     """
     data = base.model_dump()
-    data["planner"]["name"] = combination.planner
+    if combination.planner != base.planner.name:  # the file's parameters belong to its own planner
+        data["planner"] = {"name": combination.planner, "params": {}}
     data["sim"]["seed"] = seed
     if combination.v2x == V2X_OFF:
         data["v2x"]["enabled"] = False
