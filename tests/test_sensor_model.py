@@ -438,3 +438,17 @@ def test_bad_sensor_field_is_named(scenario_dict, field, value, reason):
     path, _, message = lines[1].strip().partition(": ")
     assert path == f"sensor.{field}"
     assert re.search(reason, message), message
+
+
+def test_fused_sensor_estimates_carry_their_age(make_scenario):
+    """A 0.1 s latency at 20 Hz: the observation's age of a sensor estimate is latency + time held, in
+    [0.1, 0.15) s, and the ideal sensor's is 0."""
+    from vrusim.sim.batch import pack
+    from vrusim.sim.sensor_model import RealisticSensor
+
+    scenario = make_scenario({"sensor": {"latency_s": 0.1, "frame_rate_hz": 20.0}})
+    sensor = RealisticSensor()
+    sensor.reset(pack([scenario]))
+    ages = np.array([sensor.age_s(step, 0.01)[0] for step in range(10, 60)])
+    assert ages.min() == pytest.approx(0.1) and ages.max() == pytest.approx(0.14)
+    assert np.all(np.diff(ages)[np.diff(ages) < 0] == pytest.approx(-0.04))  # a new frame every 5 steps

@@ -88,7 +88,7 @@ def simulate(
             t,
             rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.kinematics),
         )
-        detected, source, estimate = fuse(sensed, sensed_kinematics, messages)
+        detected, source, estimate = fuse(sensed, sensed_kinematics, messages, sensor.age_s(step, dt))
         metrics.record_detection(t, active, sensed, messages.received)
         observation = Observation(t, dt, *ego_view, params.routes, route_offset, detected, source, estimate, radius)
         old_mode = getattr(planner, "mode", None)

@@ -78,7 +78,7 @@ class Observation:
 
 
 def fuse(
-    sensed: np.ndarray, sensor_estimate: np.ndarray, v2x: V2xMessages
+    sensed: np.ndarray, sensor_estimate: np.ndarray, v2x: V2xMessages, sensor_age_s: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Union of sensor and V2X detections: (detected [B, K], source bits [B, K], estimate [7, B, K]).
 
@@ -88,12 +88,16 @@ def fuse(
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
     estimate = np.empty((7, *shape))
-    _fuse(shape[0], sensed, sensor_estimate, v2x.received, v2x.kinematics, v2x.age_s, detected, source, estimate)
+    sensor_age = np.zeros(shape[0]) if sensor_age_s is None else sensor_age_s
+    _fuse(
+        shape[0], sensed, sensor_estimate, sensor_age, v2x.received, v2x.kinematics, v2x.age_s, detected, source,
+        estimate,
+    )  # fmt: skip
     return detected, source, estimate
 
 
 @batch_kernel
-def _fuse(sensed, truth, received, message, age, detected, source, out):  # pragma: no cover (compiled)
+def _fuse(sensed, truth, sensor_age, received, message, age, detected, source, out):  # pragma: no cover (compiled)
     B, K = sensed.shape
     for b in prange(B):
         for k in range(K):
@@ -101,4 +105,4 @@ def _fuse(sensed, truth, received, message, age, detected, source, out):  # prag
             source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
             for row in range(6):
                 out[row, b, k] = truth[row, b, k] if sensed[b, k] else message[row, b, k]
-            out[6, b, k] = 0.0 if sensed[b, k] else age[b, k]
+            out[6, b, k] = sensor_age[b] if sensed[b, k] else age[b, k]

@@ -40,6 +40,10 @@ class SensorModel(Protocol):
         """(detected [B, K], estimated kinematics [6, B, K]) from this step's visibility and true kinematics."""
         ...
 
+    def age_s(self, step: int, dt_s: float) -> np.ndarray | None:
+        """Age of each variant's current report [B], s (None: all 0)."""
+        ...
+
 
 class IdealSensor:
     """No latency, no missed detection, no noise."""
@@ -50,6 +54,10 @@ class IdealSensor:
     def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every visible VRU, exactly as it is."""
         return visible, truth
+
+    def age_s(self, step: int, dt_s: float) -> np.ndarray | None:
+        """Age of the current reports: the ideal sensor reports the present (None: 0 s for every variant)."""
+        return None
 
 
 def whole_steps(duration_s: float, dt_s: float) -> int:
@@ -125,6 +133,13 @@ class RealisticSensor:
             estimate,
         )
         return detected, estimate
+
+    def age_s(self, step: int, dt_s: float) -> np.ndarray:
+        """Age of each variant's current report [B], s: steps since the frame it describes was measured
+        (latency plus the time the report has been held since its frame)."""
+        since = np.maximum(step - self.latency, 0)
+        measured = (since // self.period) * self.period
+        return (step - measured) * dt_s
 
 
 @batch_kernel
