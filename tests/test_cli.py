@@ -13,29 +13,14 @@ import pyarrow.csv as pa_csv
 import pyarrow.parquet as pq
 import pytest
 import yaml
-from typer.testing import CliRunner
 
+from cli_helpers import assert_user_error, invoke
 from vrusim import __version__
-from vrusim.cli import app, main
+from vrusim.cli import main
 from vrusim.errors import UserInputError
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PEDESTRIAN = REPO_ROOT / "scenarios" / "paper" / "pedestrian_crossing.yaml"
-
-runner = CliRunner()
-
-
-def invoke(*args: str):
-    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
-
-
-def assert_user_error(result, *names: str) -> None:
-    """Exit 2, every name in the output, no traceback, nothing on stdout."""
-    assert result.exit_code == 2, result.output
-    for name in names:
-        assert name in result.output, (name, result.output)
-    assert "Traceback" not in result.output
-    assert result.stdout == ""
 
 
 @pytest.fixture(scope="module")

@@ -8,25 +8,10 @@ import math
 import pyarrow.csv as pa_csv
 import pyarrow.parquet as pq
 import pytest
-from typer.testing import CliRunner
 
+from cli_helpers import assert_user_error, invoke
 from vrusim.catalog.ncap import select
 from vrusim.catalog.ncap_protocol import SCENARIOS
-from vrusim.cli import app
-
-runner = CliRunner()
-
-
-def invoke(*args: str):
-    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
-
-
-def assert_user_error(result, *names: str) -> None:
-    assert result.exit_code == 2, result.output
-    for name in names:
-        assert name in result.output, (name, result.output)
-    assert "Traceback" not in result.output
-    assert result.stdout == ""
 
 
 @pytest.fixture(scope="module")

@@ -7,17 +7,11 @@ import math
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from vrusim.cli import app
+from cli_helpers import invoke
 from vrusim.compare import wilson_interval
 
 PEDESTRIAN = Path(__file__).resolve().parents[1] / "scenarios" / "paper" / "pedestrian_crossing.yaml"
-runner = CliRunner()
-
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], catch_exceptions=False)
 
 
 def test_wilson_interval_hand_values():

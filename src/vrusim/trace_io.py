@@ -9,8 +9,6 @@ then renamed over the target, so a failure never leaves a half-written file behi
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +16,7 @@ import pyarrow as pa
 import pyarrow.csv as pa_csv
 import pyarrow.parquet as pq
 
+from vrusim.atomic_io import write_atomically
 from vrusim.errors import UserInputError
 from vrusim.sim.engine import BatchRun
 
@@ -93,12 +92,6 @@ def trace_table(run: BatchRun, variant: int = 0) -> pa.Table:
     return pa.table(columns)
 
 
-def _default_file_mode() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
 def write_trace(run: BatchRun, path: str | Path, variant: int = 0) -> int:
     """Write the per-step trace of `variant` to `path` (.csv or .parquet), atomically; return the row count.
 
@@ -107,24 +100,8 @@ def write_trace(run: BatchRun, path: str | Path, variant: int = 0) -> int:
     path = Path(path)
     kind = check_trace_path(path)
     table = trace_table(run, variant)
-    folder = path.parent
-    try:
-        handle, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    except OSError as error:
-        raise UserInputError(f"{path}: cannot write trace ({error.strerror or error})") from None
-    os.close(handle)
-    temp = Path(temp_name)
-    try:
-        if kind == "csv":
-            pa_csv.write_csv(table, temp)
-        else:
-            pq.write_table(table, temp)
-        os.chmod(temp, _default_file_mode())
-        os.replace(temp, path)
-    except OSError as error:
-        temp.unlink(missing_ok=True)
-        raise UserInputError(f"{path}: cannot write trace ({error.strerror or error})") from None
-    except BaseException:
-        temp.unlink(missing_ok=True)
-        raise
+    if kind == "csv":
+        write_atomically(path, lambda temp: pa_csv.write_csv(table, temp), "trace")
+    else:
+        write_atomically(path, lambda temp: pq.write_table(table, temp), "trace")
     return table.num_rows
