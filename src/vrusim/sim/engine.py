@@ -78,6 +78,7 @@ def simulate(
         for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
     ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
     route_offset, radius = _read_only(params.route_offset), _read_only(params.vru_radius_m)
+    fresh = np.zeros(params.size)  # age of an ideal sensor's reports, s
     step = 0
     for step in range(params.n_steps):
         t = step * dt
@@ -88,7 +89,10 @@ def simulate(
             t,
             rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.kinematics),
         )
-        detected, source, estimate = fuse(sensed, sensed_kinematics, messages, sensor.age_s(step, dt))
+        sensor_age = sensor.age_s(step, dt)
+        detected, source, estimate = fuse(
+            sensed, sensed_kinematics, messages, fresh if sensor_age is None else sensor_age
+        )
         metrics.record_detection(t, active, sensed, messages.received)
         observation = Observation(t, dt, *ego_view, params.routes, route_offset, detected, source, estimate, radius)
         old_mode = getattr(planner, "mode", None)
