@@ -43,7 +43,7 @@ def test_compare_reproduces_the_single_runs():
     [
         (["--planners", "fsm,bogus"], ["--planners", "bogus"]),
         (["--planners", " , "], ["--planners"]),
-        (["--v2x", "no-such-profile"], ["v2x.channel"]),
+        (["--v2x", "no-such-profile"], ["--v2x", "no-such-profile", "typical"]),
         (["--seeds", "0"], ["--seeds"]),
     ],
 )

@@ -40,10 +40,17 @@ class Recorder:
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.sensed: list[np.ndarray] = []
         self.estimate: list[np.ndarray] = []
+        self.predicted: list[np.ndarray] = []
+        self.age: list[np.ndarray] = []
 
     def act(self, observation) -> np.ndarray:
         self.sensed.append((observation.source & SOURCE_SENSOR) != 0)
-        self.estimate.append(observation.vru_estimate[:6].copy())
+        # the observation predicts a delayed report to now; undo that to record the sensor's own report
+        report = observation.vru_estimate[:6].copy()
+        report[0:2] -= report[2:4] * observation.vru_estimate[6]
+        self.estimate.append(report)
+        self.predicted.append(observation.vru_estimate[:2].copy())
+        self.age.append(observation.vru_estimate[6].copy())
         return np.zeros(observation.ego_speed_mps.shape)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray]:
@@ -137,6 +144,12 @@ def test_latency_delays_detection_and_reports_the_past(crossing, latency_steps):
     np.testing.assert_allclose(estimate[steps, 2], 0.0, atol=1e-9)
     np.testing.assert_allclose(estimate[steps, 3], CROSSING_SPEED_MPS, atol=1e-12)
     np.testing.assert_allclose(estimate[steps, 4:6], 0.0, atol=1e-12)
+    # the planner sees the report predicted to now (exact for this constant-speed VRU), with its age L
+    recorder = Recorder()
+    simulate([scenario_from_mapping(with_sensor(crossing, latency_s=latency_steps * DT))], planner=recorder)
+    predicted, age = np.stack(recorder.predicted)[:, :, 0, 0], np.stack(recorder.age)[:, 0, 0]
+    np.testing.assert_allclose(predicted[steps, 1], CROSSING_START[1] + CROSSING_SPEED_MPS * steps * DT, atol=1e-9)
+    np.testing.assert_allclose(age[steps], latency_steps * DT, atol=1e-12)
 
 
 def test_frame_rate_holds_the_last_report_between_frames(crossing):

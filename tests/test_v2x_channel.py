@@ -515,6 +515,7 @@ def test_channel_invariants(latency, jitter, rate, probability, max_age, seed, s
     """Whatever the parameters: ages within [latency, max age], delays within [L, L + J] (to the step), the
     track never goes back in time, nothing before coverage + latency, and for a VRU at constant velocity the
     prediction is the truth."""
+    max_age = max(max_age, latency + jitter)  # a shorter track age is rejected by the schema
     spec = {
         "generation": {"rate_hz": rate},
         "latency_s": latency,
@@ -603,3 +604,14 @@ def test_load_profiles(tmp_path):
     assert "worse.loss.probability: Input should be less than or equal to 1" in text
     with pytest.raises(UserInputError, match="no such profile file"):
         load_profiles(tmp_path / "missing.yaml")
+
+
+def test_a_track_age_shorter_than_the_delay_is_rejected():
+    """Messages older than the track age on arrival would be dropped silently: the schema refuses it."""
+    from pydantic import ValidationError
+
+    from vrusim.scenario.v2x_channel import ChannelSpec
+
+    with pytest.raises(ValidationError, match="track_max_age_s"):
+        ChannelSpec(latency_s=0.8, jitter_s=0.3)  # default track age 1.0 s < 1.1 s
+    assert ChannelSpec(latency_s=0.8, jitter_s=0.3, track_max_age_s=1.1).track_max_age_s == 1.1

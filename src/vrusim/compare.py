@@ -72,6 +72,12 @@ def compare(
         raise UserInputError("--seeds: expected a positive number of seeds")
     if base.v2x.rsu is None and any(name != V2X_OFF for name in v2x):
         raise UserInputError("--v2x: the scenario has no roadside unit (v2x.rsu); only 'off' is possible")
+    from vrusim.scenario.v2x_channel import V2X_PROFILES
+
+    known = [V2X_OFF, *V2X_PROFILES, *(channels or {})]
+    unknown = [name for name in v2x if name not in known]
+    if unknown:
+        raise UserInputError(f"--v2x: unknown setting {unknown[0]!r}; expected one of: {', '.join(known)}")
     for name in planners:
         try:
             make_planner(name)

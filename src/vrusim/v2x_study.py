@@ -70,13 +70,16 @@ class SweepPoint:
 
 def sweep(base: Scenario, kind: str, values: Sequence[float], seeds: int, planner: str = "fsm") -> list[SweepPoint]:
     """Collision probability of `base` (V2X on, `planner`) at every value, over `seeds` seeds each."""
+    if seeds < 1:
+        raise ValueError("seeds must be at least 1")
     scenarios = []
     for value in values:
         channel = channel_for(kind, value)
         for seed in range(seeds):
             data = base.model_dump()
             data["v2x"].update(enabled=True, channel=channel)
-            data["planner"]["name"] = planner
+            if planner != base.planner.name:  # the file's parameters belong to its own planner
+                data["planner"] = {"name": planner, "params": {}}
             data["sim"]["seed"] = seed
             scenarios.append(Scenario.model_validate(data))
     rows = summary_rows(simulate(scenarios, planner=make_planner(planner)))

@@ -33,7 +33,7 @@ CRUISE, WARNING, PARTIAL_BRAKE, FULL_BRAKE = 0, 1, 2, 3
 class AebParams(BaseModel):
     """Parameters of the AEB planner (YAML `planner.params`)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, validate_default=True)
 
     warning_ttc_s: float = Field(2.6, gt=0, description="FCW at TTC <= this, s")
     partial_ttc_s: float = Field(1.6, gt=0, description="partial braking at TTC <= this, s")

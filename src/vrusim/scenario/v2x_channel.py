@@ -160,6 +160,16 @@ class ChannelSpec(_Frozen):
             raise ValueError(f"unknown loss model {name!r}; expected one of: {', '.join(_LOSS_MODELS)}")
         return _LOSS_MODELS[name].model_validate(value)  # its errors are reported under `loss`
 
+    @model_validator(mode="after")
+    def _tracks_outlive_the_delay(self) -> Self:
+        """A track older than the longest delay would be dropped on arrival: V2X would silently vanish."""
+        if self.track_max_age_s < self.latency_s + self.jitter_s:
+            raise ValueError(
+                f"track_max_age_s ({self.track_max_age_s:g} s) must be at least latency_s + jitter_s "
+                f"({self.latency_s + self.jitter_s:g} s), or every message is dropped as it arrives"
+            )
+        return self
+
     @property
     def is_ideal(self) -> bool:
         """Whether this is the paper's channel: every step, no delay, loss, outage, noise, or track memory."""

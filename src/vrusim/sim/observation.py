@@ -83,7 +83,8 @@ def fuse(
     """Union of sensor and V2X detections: (detected [B, K], source bits [B, K], estimate [7, B, K]).
 
     The estimate stacks x, y, vx, vy, ax, ay (the sensor's estimate [6, B, K] where it detects the VRU, else
-    the V2X message's) and the age in s; the sensor wins.
+    the V2X track's) and the age in s of the information behind it; the sensor wins. Both sources are
+    predicted to now at constant velocity: the V2X track by the channel, a delayed sensor report here.
     """
     shape = sensed.shape
     detected, source = np.empty(shape, dtype=bool), np.empty(shape, dtype=np.int8)
@@ -105,4 +106,7 @@ def _fuse(sensed, truth, sensor_age, received, message, age, detected, source, o
             source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
             for row in range(6):
                 out[row, b, k] = truth[row, b, k] if sensed[b, k] else message[row, b, k]
+            if sensed[b, k]:  # a delayed report is predicted to now at constant velocity, like a V2X track
+                out[0, b, k] += truth[2, b, k] * sensor_age[b]
+                out[1, b, k] += truth[3, b, k] * sensor_age[b]
             out[6, b, k] = sensor_age[b] if sensed[b, k] else age[b, k]
