@@ -161,6 +161,7 @@ def test_paper_cases_without_v2x_match_the_fsm_outcomes(paper_rows):
         ({"time_margin_s": float("inf")}, "time_margin_s", "finite"),
         ({"speed_envelope": "sometimes"}, "speed_envelope", "boolean"),
         ({"gentle": True}, "gentle", "unknown field"),
+        ({"comfort_decel_mps2": 9.0}, "emergency_decel_mps2", "at least comfort_decel_mps2"),
     ],
 )
 def test_bad_parameters_name_the_field(make_scenario, params, field, message):

@@ -25,7 +25,7 @@ from typing import Literal
 
 import numpy as np
 from numba import prange
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.planners.params import param_table, validate_params
@@ -51,7 +51,7 @@ EMERGENCY_EXIT = 0.8
 class PredictiveParams(BaseModel):
     """Parameters of the predictive planner (YAML `planner.params`)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, validate_default=True)
 
     prediction: Literal["constant_velocity", "path"] = "constant_velocity"
     speed_envelope: bool = Field(True, description="also predict at the VRU's current along-track acceleration")
@@ -69,6 +69,14 @@ class PredictiveParams(BaseModel):
     cruise_gain_per_s: float = Field(0.8, gt=0)
     corridor_margin_m: float = Field(0.25, ge=0)
     track_memory_s: float = Field(1.0, ge=0)
+
+    @field_validator("emergency_decel_mps2")
+    @classmethod
+    def _emergency_at_least_comfort(cls, value: float, info: ValidationInfo) -> float:
+        comfort = info.data.get("comfort_decel_mps2")
+        if comfort is not None and value < comfort:
+            raise ValueError(f"must be at least comfort_decel_mps2 ({comfort})")
+        return value
 
 
 NUMERIC = tuple(name for name in PredictiveParams.model_fields if name != "prediction")
