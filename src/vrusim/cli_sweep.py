@@ -1,0 +1,123 @@
+"""`vrusim sweep`: a parameter sweep or Monte Carlo study into a resumable Parquet results folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    ProgressColumn,
+    Task,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+from rich.text import Text
+
+from vrusim.cli_support import console, print_json, user_errors
+
+INTERRUPTED_EXIT_CODE = 130
+"""Exit code after Ctrl-C (128 + SIGINT), as a shell reports it."""
+
+
+class RateColumn(ProgressColumn):
+    """Variants per second over the recent batches."""
+
+    def render(self, task: Task) -> Text:
+        speed = task.finished_speed or task.speed
+        return Text("–" if speed is None else f"{speed:,.0f} variants/s", style="progress.data.speed")
+
+
+def sweep_command(
+    spec_file: Annotated[
+        Path | None,
+        typer.Argument(metavar="[SPEC.yaml]", help="Sweep spec (not needed with --resume).", show_default=False),
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Results folder (new, or the one to --resume).")] = Path(
+        "sweep-results"
+    ),
+    workers: Annotated[int, typer.Option("--workers", help="Local worker processes (default: all cores).")] = 0,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT", help="Run on this Dask cluster.")
+    ] = None,
+    batch_size: Annotated[
+        int | None, typer.Option("--batch-size", help="Variants per batch (default: the spec's).")
+    ] = None,
+    resume: Annotated[
+        bool, typer.Option("--resume", help="Continue the sweep in --out: run the missing batches.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the outcome as one JSON document.")] = False,
+) -> None:
+    """Run every variant of a sweep spec; results go to OUT/chunks/*.parquet, batch by batch (resumable)."""
+    from vrusim.sweep.execute import SweepAbortedError, cpu_count
+    from vrusim.sweep.runner import run_sweep
+    from vrusim.sweep.spec import load_spec
+
+    show = not quiet and not as_json
+    with user_errors():
+        spec = load_spec(spec_file) if spec_file is not None else None
+        if workers < 0:
+            from vrusim.errors import UserInputError
+
+            raise UserInputError("--workers: expected a positive number of worker processes (0: all cores)")
+        bar = Progress(
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            RateColumn(),
+            TimeElapsedColumn(),
+            TextColumn("left"),
+            TimeRemainingColumn(),
+            console=Console(stderr=True),
+            disable=not show,
+        )
+        task_id = bar.add_task("sweep", total=None)
+
+        def progress(done: int, total: int) -> None:
+            if not bar.live.is_started:  # the bar appears once the sweep is planned and checked
+                bar.start()
+            bar.update(task_id, completed=done, total=total)
+
+        try:
+            result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress)
+        except KeyboardInterrupt:
+            bar.stop()
+            typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
+            raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
+        except SweepAbortedError as error:
+            bar.stop()
+            typer.echo(f"Error: {error}; finished batches are saved in {out}; continue with --resume.", err=True)
+            raise typer.Exit(1) from None
+        finally:
+            bar.stop()
+    for warning in result.warnings:
+        typer.echo(f"Warning: {warning}", err=True)
+    document = {
+        "folder": str(result.folder),
+        "variants": result.variants,
+        "batches": result.chunks,
+        "batches_run": result.chunks_run,
+        "batches_reused": result.chunks_reused,
+        "elapsed_s": round(result.elapsed_s, 3),
+        "variants_per_s": round(result.variants_per_s, 1),
+    }
+    if as_json:
+        print_json(document)
+        return
+    console().print(
+        f"{result.variants:,} variants in {result.chunks} batches "
+        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {result.folder} "
+        f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
+        f"Summarize with: vrusim summarize {result.folder}"
+    )
+
+
+def register(app: typer.Typer) -> None:
+    """Add `sweep` to the `vrusim` app."""
+    app.command("sweep")(sweep_command)

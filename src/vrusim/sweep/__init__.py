@@ -1,0 +1,1 @@
+"""Parameter sweeps and Monte Carlo studies: spec, design, execution, results store and analysis."""

@@ -1,0 +1,137 @@
+"""The design of a sweep: every variant's id, seed, test and parameter values, fixed before anything runs.
+
+Variant i sits at grid point g = i // samples and sample s = i % samples; grid dimensions (catalogue tests
+first, then grid parameters in spec order) vary slowest-first. Each random parameter draws its N values
+from its own generator, PCG64 seeded by (master seed, CRC-32 of its path), so adding or removing another
+parameter never changes its draws. Each variant's `sim.seed` (the key of its sensor and V2X random numbers)
+is SplitMix64 of (master seed, variant id). The design depends on the plan only, never on batch size,
+workers or scheduler.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from typing import Any
+
+import numpy as np
+
+from vrusim.errors import UserInputError
+from vrusim.sweep.plan import TEST_COLUMN, SweepPlan
+from vrusim.sweep.spec import Parameter
+
+MAX_REJECTION_ROUNDS = 100_000
+
+_GOLDEN, _MIX1, _MIX2 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
+
+
+def _splitmix(z: np.ndarray) -> np.ndarray:
+    with np.errstate(over="ignore"):
+        z = (z ^ (z >> np.uint64(30))) * _MIX1
+        z = (z ^ (z >> np.uint64(27))) * _MIX2
+    return z ^ (z >> np.uint64(31))
+
+
+def variant_seeds(master_seed: int, count: int) -> np.ndarray:
+    """Each variant's `sim.seed` in [0, 2^63): SplitMix64 of (master seed, variant id)."""
+    ids = np.arange(count, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        z = _splitmix(np.uint64(master_seed) * _GOLDEN + np.uint64(0x5EED)) + ids * _GOLDEN
+    return (_splitmix(z) >> np.uint64(1)).astype(np.int64)
+
+
+def _generator(seed: int, path: str) -> np.random.Generator:
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence([seed, zlib.crc32(path.encode())])))
+
+
+def _truncated_normal(rng: np.random.Generator, p: Parameter, count: int) -> np.ndarray:
+    out = np.empty(count)
+    missing = np.arange(count)
+    for _ in range(MAX_REJECTION_ROUNDS):
+        draws = rng.normal(p.mean, p.std, missing.size)
+        keep = (draws >= p.low) & (draws <= p.high)
+        out[missing[keep]] = draws[keep]
+        missing = missing[~keep]
+        if missing.size == 0:
+            return out
+    raise UserInputError(f"parameters.{p.path}: the truncated normal rejected too many draws")  # pragma: no cover
+
+
+def _column(values: list[Any]) -> np.ndarray:
+    """Values as a typed array when they are all numbers or all booleans, else an object array."""
+    if all(isinstance(v, bool) for v in values):
+        return np.array(values, dtype=bool)
+    if all(isinstance(v, int) and not isinstance(v, bool) for v in values) and all(abs(v) < 2**63 for v in values):
+        return np.array(values, dtype=np.int64)
+    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        return np.array(values, dtype=float)
+    array = np.empty(len(values), dtype=object)
+    array[:] = values
+    return array
+
+
+def _draw(p: Parameter, seed: int, count: int) -> np.ndarray:
+    rng = _generator(seed, p.path)
+    if p.kind == "uniform":
+        return rng.uniform(p.low, p.high, count)
+    if p.kind == "normal":
+        return rng.normal(p.mean, p.std, count)
+    if p.kind == "truncated_normal":
+        return _truncated_normal(rng, p, count)
+    index = rng.choice(len(p.values), size=count, p=list(p.weights) if p.weights else None)
+    return _column(list(p.values))[index]
+
+
+def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
+    """Columns `variant`, `seed`, optional `test`, and one per parameter (named by its path), N rows each."""
+    count = plan.variants
+    dimensions: list[tuple[str, np.ndarray]] = []
+    if plan.tests:
+        dimensions.append((TEST_COLUMN, _column(list(plan.tests))))
+    dimensions += [(p.path, _column(list(p.values))) for p in plan.parameters if not p.is_random]
+    sizes = [len(values) for _, values in dimensions]
+    grid_index = np.arange(count, dtype=np.int64) // plan.samples
+    columns: dict[str, np.ndarray] = {
+        "variant": np.arange(count, dtype=np.int64),
+        "seed": variant_seeds(plan.seed, count),
+    }
+    for position, (name, values) in enumerate(dimensions):
+        stride = math.prod(sizes[position + 1 :])
+        columns[name] = values[(grid_index // stride) % sizes[position]]
+    for p in plan.parameters:
+        if p.is_random:
+            columns[p.path] = _draw(p, plan.seed, count)
+    if "sim.seed" in columns:
+        columns["seed"] = columns["sim.seed"].astype(np.int64)
+    return columns
+
+
+def design_rows(design: dict[str, np.ndarray], start: int, stop: int) -> dict[str, Any]:
+    """Rows [start, stop) of a design as Python lists (values ready for validation and pickling)."""
+    return {name: column[start:stop].tolist() for name, column in design.items()}
+
+
+def preflight_rows(design: dict[str, np.ndarray], plan: SweepPlan, first: int = 256) -> list[int]:
+    """Rows worth validating before a sweep starts: the first `first`, each parameter's extremes and every
+    distinct value of a discrete parameter (first occurrence), and the last row."""
+    rows = set(range(min(first, plan.variants)))
+    rows.add(plan.variants - 1)
+    for p in plan.parameters:
+        column = design[p.path]
+        if column.dtype.kind in "fi":
+            rows.update((int(np.argmin(column)), int(np.argmax(column))))
+        if not p.is_random or p.kind == "choice":
+            seen: dict[Any, int] = {}
+            for row, value in enumerate(column.tolist()):
+                key = repr(value)
+                if key not in seen:
+                    seen[key] = row
+                    if len(seen) == len(p.values):
+                        break
+            rows.update(seen.values())
+    if TEST_COLUMN in design:
+        first_of_test: dict[str, int] = {}
+        for row in range(0, plan.variants, plan.samples):
+            first_of_test.setdefault(design[TEST_COLUMN][row], row)
+        rows.update(first_of_test.values())
+    return sorted(rows)

@@ -1,0 +1,118 @@
+"""Run sweep batches: in this process, in local worker processes, or on a Dask cluster — same results.
+
+Each finished batch is handed to `on_done` in the calling process (which writes it), in completion order.
+Local workers are spawned (not forked: the compiled kernels' thread pools do not survive a fork); each gets
+an equal share of the cores as numba threads. A worker that dies (killed, out of memory) breaks the local
+pool: the pool is restarted and its unfinished batches run again, at most `MAX_POOL_RESTARTS` times. On a
+Dask cluster the scheduler itself reruns the batches of a lost worker.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+import pyarrow as pa
+
+from vrusim.errors import UserInputError
+from vrusim.sweep.chunk import ChunkTask, run_chunk
+
+MAX_POOL_RESTARTS = 3
+IN_FLIGHT_PER_WORKER = 2
+"""Batches queued per local worker: keeps workers busy while bounding memory to a few batches each."""
+
+OnDone = Callable[[ChunkTask, pa.Table], None]
+
+
+class SweepAbortedError(Exception):
+    """The sweep stopped before every batch finished (the finished ones are saved)."""
+
+
+def cpu_count() -> int:
+    """Cores this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover (not Linux)
+        return os.cpu_count() or 1
+
+
+def run_serial(tasks: Iterable[ChunkTask], on_done: OnDone) -> None:
+    """Every batch in this process, one after the other (the kernels use all cores)."""
+    for task in tasks:
+        on_done(task, run_chunk(task))
+
+
+def _with_threads(task: ChunkTask, threads: int) -> ChunkTask:
+    return ChunkTask(task.plan, task.plan_digest, task.index, task.rows, task.types, threads)
+
+
+def _terminate(pool: ProcessPoolExecutor) -> None:
+    processes = list(getattr(pool, "_processes", {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+
+
+def run_processes(tasks: Iterable[ChunkTask], workers: int, on_done: OnDone) -> None:
+    """Every batch on `workers` spawned local processes, a bounded number in flight."""
+    threads = max(1, cpu_count() // workers)
+    queue: Iterator[ChunkTask] = (_with_threads(task, threads) for task in tasks)
+    retry: list[ChunkTask] = []
+    restarts = 0
+    context = multiprocessing.get_context("spawn")
+    while True:
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+        running: dict[Future, ChunkTask] = {}
+        try:
+            while True:
+                while len(running) < workers * IN_FLIGHT_PER_WORKER:
+                    task = retry.pop() if retry else next(queue, None)
+                    if task is None:
+                        break
+                    running[pool.submit(run_chunk, task)] = task
+                if not running:
+                    pool.shutdown()
+                    return
+                done, _ = wait(running, return_when=FIRST_COMPLETED)
+                for future in done:
+                    table = future.result()  # raises BrokenProcessPool while the batch is still in `running`
+                    on_done(running.pop(future), table)
+        except BrokenProcessPool:
+            retry.extend(running.values())
+            _terminate(pool)
+            restarts += 1
+            if restarts > MAX_POOL_RESTARTS:
+                raise SweepAbortedError(
+                    f"worker processes died {restarts} times (out of memory? try a smaller --batch-size)"
+                ) from None
+        except BaseException:
+            _terminate(pool)
+            raise
+
+
+def run_dask(tasks: Iterable[ChunkTask], scheduler: str, on_done: OnDone) -> None:
+    """Every batch on the Dask cluster at `scheduler` (tcp://host:port); this process writes the results."""
+    try:
+        from distributed import Client, as_completed
+    except ImportError:  # pragma: no cover (a dependency)
+        raise UserInputError("--scheduler: the Dask distributed package is not installed") from None
+    try:
+        client = Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as error:
+        raise UserInputError(f"--scheduler: cannot connect to the Dask scheduler at {scheduler} ({error})") from None
+    try:
+        batches = [_with_threads(task, 1) for task in tasks]
+        futures = {
+            client.submit(run_chunk, task, key=f"vrusim-{task.plan_digest[:16]}-{task.index}", pure=False): task
+            for task in batches
+        }
+        for future in as_completed(futures):
+            task = futures.pop(future)
+            on_done(task, future.result())
+            future.release()
+    finally:
+        client.close()

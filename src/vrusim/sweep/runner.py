@@ -1,0 +1,196 @@
+"""Run a sweep end to end: plan, check, store, execute the missing batches, verify every variant is there once."""
+
+from __future__ import annotations
+
+import platform
+import subprocess
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+
+import vrusim
+from vrusim.errors import UserInputError
+from vrusim.planners.registry import make_planner
+from vrusim.sim.batch import pack
+from vrusim.sweep.chunk import ChunkTask
+from vrusim.sweep.design import design_rows, make_design, preflight_rows
+from vrusim.sweep.execute import run_dask, run_processes, run_serial
+from vrusim.sweep.plan import SweepPlan, VariantBuilder, make_plan
+from vrusim.sweep.spec import Parameter, SweepSpec
+from vrusim.sweep.store import SweepStore, check_exactly_once
+from vrusim.sweep.tables import chunk_table, design_types
+
+Progress = Callable[[int, int], None]
+"""Called with (variants finished, variants in the sweep) after each batch."""
+
+
+@dataclass
+class SweepResult:
+    """What a `run_sweep` call did."""
+
+    folder: Path
+    variants: int
+    chunks: int
+    chunks_run: int
+    chunks_reused: int
+    elapsed_s: float
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def variants_per_s(self) -> float:
+        """Variants simulated (and stored) by this call per second of wall time."""
+        ran = min(self.variants, self.chunks_run * max(1, self.variants // max(1, self.chunks)))
+        return ran / self.elapsed_s if self.elapsed_s > 0 else 0.0
+
+
+def code_version() -> dict[str, Any]:
+    """The code that produced the results: package version, source digest, git commit if any, libraries."""
+    import numba
+
+    source = Path(vrusim.__file__).parent
+    version: dict[str, Any] = {
+        "vrusim": vrusim.__version__,
+        "source_sha256": vrusim.source_digest(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "pyarrow": pa.__version__,
+    }
+    try:
+        commit = subprocess.run(
+            ["git", "-C", str(source), "rev-parse", "HEAD"], capture_output=True, text=True, timeout=5, check=True
+        ).stdout.strip()
+        version["git_commit"] = commit
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return version
+
+
+def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
+    """The plan recorded in a manifest (its digest checked)."""
+    data = manifest["plan"]
+    parameters = tuple(Parameter.from_description(p) for p in data["parameters"])
+    plan = SweepPlan(data["name"], data["bases"], parameters, data["samples"], data["seed"], data["batch_size"])
+    if plan.digest() != manifest.get("plan_sha256"):
+        raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
+    return plan
+
+
+def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> int:
+    """Build and check a sample of variants (extremes, every discrete value, the first batch); return how many."""
+    rows = preflight_rows(design, plan)
+    scenarios = VariantBuilder(plan).build({k: v[rows].tolist() for k, v in design.items()}, range(len(rows)))
+    by_planner: dict[str, list] = {}
+    for scenario in scenarios:
+        by_planner.setdefault(scenario.planner.name, []).append(scenario)
+    for name, group in by_planner.items():
+        make_planner(name).reset(pack(group))  # planner.params validated by the planner
+    return len(rows)
+
+
+def _tasks(plan: SweepPlan, design: dict[str, np.ndarray], pending: list[int]):
+    digest, types = plan.digest(), design_types(design)
+    for index in pending:
+        start, stop = plan.chunk_range(index)
+        yield ChunkTask(plan, digest, index, design_rows(design, start, stop), types)
+
+
+def _open(
+    spec: SweepSpec | None, store: SweepStore, resume: bool, batch_size: int | None, warnings: list[str]
+) -> tuple[SweepPlan, dict[str, np.ndarray]]:
+    if not resume:
+        if spec is None:
+            raise UserInputError("SPEC: a sweep spec file is needed (only --resume can do without)")
+        plan = make_plan(spec, batch_size)
+        design = make_design(plan)
+        preflight(plan, design)
+        manifest = {
+            "name": plan.name,
+            "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
+            "spec": spec.source,
+            "spec_file": None if spec.base_file is None else str(spec.base_file),
+            "variants": plan.variants,
+            "grid_points": plan.grid_points,
+            "samples": plan.samples,
+            "batch_size": plan.batch_size,
+            "chunks": plan.chunks,
+            "seed": plan.seed,
+            "parameters": [p.describe() for p in plan.parameters],
+            "plan": plan.describe(),
+            "plan_sha256": plan.digest(),
+            "code": code_version(),
+        }
+        store.create(manifest, chunk_table(design_rows(design, 0, plan.variants), design_types(design), {}))
+        return plan, design
+    manifest = store.manifest()
+    plan = plan_from_manifest(manifest)
+    if batch_size is not None and batch_size != plan.batch_size:
+        raise UserInputError(f"--batch-size: the sweep being resumed uses {plan.batch_size}; give that or nothing")
+    if spec is not None and make_plan(spec, plan.batch_size).digest() != plan.digest():
+        raise UserInputError(
+            f"SPEC: differs from the sweep recorded in {store.manifest_path} (spec, base scenario or seed changed); "
+            "resume without SPEC, or start a new folder"
+        )
+    design = make_design(plan)
+    if not store.design().equals(chunk_table(design_rows(design, 0, plan.variants), design_types(design), {})):
+        raise UserInputError(f"{store.folder}: the design drawn now differs from the stored one (library change?)")
+    if manifest.get("code", {}).get("source_sha256") != vrusim.source_digest():
+        warnings.append("the code changed since the sweep started; resumed batches may differ from the earlier ones")
+    return plan, design
+
+
+def run_sweep(
+    spec: SweepSpec | None,
+    out: str | Path,
+    workers: int = 1,
+    scheduler: str | None = None,
+    batch_size: int | None = None,
+    resume: bool = False,
+    progress: Progress | None = None,
+) -> SweepResult:
+    """Run (or resume) a sweep into `out`; returns counts and timing. Bad input raises UserInputError."""
+    if workers < 1:
+        raise UserInputError("--workers: expected a positive number of worker processes")
+    started = time.perf_counter()
+    store = SweepStore(out)
+    warnings: list[str] = []
+    plan, design = _open(spec, store, resume, batch_size, warnings)
+    store.clean_temporary()
+    finished = store.finished()
+    pending = [i for i in range(plan.chunks) if i not in finished]
+    done_variants = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
+    if progress:
+        progress(int(done_variants), plan.variants)
+
+    def on_done(task: ChunkTask, table: pa.Table) -> None:
+        nonlocal done_variants
+        store.write_chunk(task.index, table)
+        done_variants += table.num_rows
+        if progress:
+            progress(int(done_variants), plan.variants)
+
+    tasks = _tasks(plan, design, pending)
+    if scheduler:
+        run_dask(tasks, scheduler, on_done)
+    elif workers == 1:
+        run_serial(tasks, on_done)
+    else:
+        run_processes(tasks, workers, on_done)
+    _, duplicated, missing = check_exactly_once(store.variant_ids(), plan.variants)
+    if duplicated or missing:  # pragma: no cover (a bug: batches are written once, atomically)
+        raise RuntimeError(f"{store.folder}: {duplicated} variants stored twice, {missing} missing")
+    return SweepResult(
+        store.folder,
+        plan.variants,
+        plan.chunks,
+        len(pending),
+        len(finished),
+        time.perf_counter() - started,
+        warnings,
+    )

@@ -1,0 +1,286 @@
+"""The sweep specification (YAML): a base, fixed overrides, swept parameters, samples and a master seed.
+
+```yaml
+name: pedestrian-monte-carlo
+base: ../scenarios/paper/pedestrian_crossing.yaml      # or  catalogue: {scenarios: [CPNA], night: false}
+set: {v2x.enabled: true}                              # fixed overrides, applied to every variant first
+parameters:                                           # dotted field paths (docs/sweeps.md)
+  ego.cruise_speed_mps: {uniform: [10, 20]}           # random: uniform, normal, truncated_normal, choice
+  v2x.channel.latency_s: [0.0, 0.1, 0.3]              # grid: a list, {range: [a, b, step]}, {linspace: [a, b, n]}
+samples: 1000                                         # random draws per grid point
+seed: 7
+batch_size: 2000                                      # variants per batch (= per results file)
+```
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from vrusim.errors import UserInputError
+from vrusim.scenario.loading import field_path
+
+MAX_VARIANTS = 100_000_000
+"""Most variants one sweep may have."""
+MIN_TRUNCATED_MASS = 1e-6
+"""Least probability a truncated normal's interval may hold (rejection sampling would never end)."""
+GRID_KINDS = ("grid",)
+RANDOM_KINDS = ("uniform", "normal", "truncated_normal", "choice")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class CatalogueBase(_Strict):
+    """A catalogue selection as the base: every selected Euro NCAP test is one value of the `test` dimension."""
+
+    scenarios: list[str] = Field(min_length=1, description="scenario codes or prefixes, as `vrusim ncap --scenario`")
+    night: bool = False
+    v2x: bool = False
+    planner: str = "fsm"
+
+
+class SpecFile(_Strict):
+    """The YAML document as written (parameters are parsed separately into `Parameter`s)."""
+
+    name: str | None = Field(None, min_length=1)
+    description: str = ""
+    base: str | None = Field(None, min_length=1, description="scenario YAML file, relative to the spec file")
+    catalogue: CatalogueBase | None = None
+    set: dict[str, Any] = Field(default_factory=dict)
+    parameters: dict[str, Any] = Field(default_factory=dict)
+    samples: int = Field(1, ge=1, le=MAX_VARIANTS)
+    seed: int = Field(0, ge=0, lt=2**63)
+    batch_size: int = Field(2000, ge=1, le=1_000_000)
+
+    @model_validator(mode="after")
+    def _one_base(self) -> SpecFile:
+        if (self.base is None) == (self.catalogue is None):
+            raise ValueError("give exactly one of base (a scenario file) or catalogue (Euro NCAP tests)")
+        return self
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One swept field: a grid of values, or a distribution drawn once per variant."""
+
+    path: str
+    kind: str
+    """"grid", or a distribution: "uniform", "normal", "truncated_normal", "choice"."""
+    values: tuple[Any, ...] = ()
+    """grid: the values; choice: the choices."""
+    weights: tuple[float, ...] = ()
+    """choice: probabilities (normalised), empty for equal weights."""
+    low: float = -math.inf
+    high: float = math.inf
+    mean: float = 0.0
+    std: float = 0.0
+
+    @property
+    def is_random(self) -> bool:
+        """Drawn per variant (True) or a grid dimension (False)."""
+        return self.kind in RANDOM_KINDS
+
+    @classmethod
+    def from_description(cls, data: dict[str, Any]) -> Parameter:
+        """The parameter a `describe()` mapping stands for."""
+        fields = {k: v for k, v in data.items() if k not in ("name", "values", "weights")}
+        return cls(data["name"], values=tuple(data.get("values", ())), weights=tuple(data.get("weights", ())), **fields)
+
+    def describe(self) -> dict[str, Any]:
+        """JSON-ready description for the manifest."""
+        out: dict[str, Any] = {"name": self.path, "kind": self.kind}
+        if self.kind in ("grid", "choice"):
+            out["values"] = list(self.values)
+        if self.weights:
+            out["weights"] = list(self.weights)
+        if self.kind in ("uniform", "truncated_normal"):
+            out.update(low=self.low, high=self.high)
+        if self.kind in ("normal", "truncated_normal"):
+            out.update(mean=self.mean, std=self.std)
+        return out
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A validated sweep specification; base file paths resolved."""
+
+    name: str
+    description: str
+    base_file: Path | None
+    catalogue: CatalogueBase | None
+    overrides: dict[str, Any]
+    parameters: tuple[Parameter, ...]
+    samples: int
+    seed: int
+    batch_size: int
+    source: dict[str, Any]
+    """The document as written (recorded in the manifest)."""
+
+
+def _numbers(where: str, value: Any, count: int, what: str) -> list[float]:
+    if (
+        not isinstance(value, list | tuple)
+        or len(value) != count
+        or not all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+    ):
+        raise UserInputError(f"{where}: expected {what}")
+    return [float(v) for v in value]
+
+
+def _named(where: str, value: Any, names: tuple[str, ...]) -> list[Any]:
+    """Arguments given as a list in `names` order or as a mapping with exactly those keys."""
+    if isinstance(value, dict):
+        if set(value) != set(names):
+            raise UserInputError(f"{where}: expected the keys {', '.join(names)}")
+        return [value[n] for n in names]
+    return value
+
+
+def _grid_range(where: str, value: Any) -> tuple[float, ...]:
+    start, stop, step = _numbers(where, _named(where, value, ("start", "stop", "step")), 3, "[start, stop, step]")
+    if step <= 0 or stop < start:
+        raise UserInputError(f"{where}: expected step > 0 and stop >= start")
+    count = math.floor((stop - start) / step + 1e-9) + 1
+    if count > MAX_VARIANTS:
+        raise UserInputError(f"{where}: {count:,} values is too many")
+    return tuple(round(start + i * step, 12) for i in range(count))
+
+
+def _linspace(where: str, value: Any) -> tuple[float, ...]:
+    start, stop, count = _named(where, value, ("start", "stop", "count"))
+    start, stop = _numbers(where, [start, stop], 2, "[start, stop, count]")
+    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_VARIANTS:
+        raise UserInputError(f"{where}: count must be a whole number ≥ 1")
+    if count == 1:
+        return (start,)
+    return tuple(start + (stop - start) * i / (count - 1) for i in range(count))
+
+
+def _choice(where: str, value: Any) -> tuple[tuple[Any, ...], tuple[float, ...]]:
+    if isinstance(value, dict):
+        if not set(value) <= {"values", "weights"} or "values" not in value:
+            raise UserInputError(f"{where}: expected {{values: [...], weights: [...]}} or a list of values")
+        values, weights = value["values"], value.get("weights")
+    else:
+        values, weights = value, None
+    if not isinstance(values, list) or not values:
+        raise UserInputError(f"{where}: expected a non-empty list of values")
+    if weights is None:
+        return tuple(values), ()
+    numbers = _numbers(f"{where}.weights", weights, len(values), f"{len(values)} weights, one per value")
+    total = sum(numbers)
+    if any(w < 0 for w in numbers) or total <= 0:
+        raise UserInputError(f"{where}.weights: expected non-negative weights with a positive sum")
+    return tuple(values), tuple(w / total for w in numbers)
+
+
+def _truncated_mass(mean: float, std: float, low: float, high: float) -> float:
+    def cdf(x: float) -> float:
+        return 0.5 * (1.0 + math.erf((x - mean) / (std * math.sqrt(2.0))))
+
+    return cdf(high) - cdf(low)
+
+
+def parse_parameter(path: str, value: Any) -> Parameter:
+    """One entry of `parameters` (path: grid list or {kind: arguments}); UserInputError names the entry."""
+    where = f"parameters.{path}"
+    if isinstance(value, list):
+        if not value:
+            raise UserInputError(f"{where}: expected at least one value")
+        return Parameter(path, "grid", tuple(value))
+    if not isinstance(value, dict) or len(value) != 1:
+        raise UserInputError(
+            f"{where}: expected a list of values or one of {{range, linspace, values, uniform, normal, "
+            "truncated_normal, choice}; give a fixed value under `set` instead"
+        )
+    ((kind, args),) = value.items()
+    where = f"{where}.{kind}"
+    if kind == "values":
+        return parse_parameter(path, args)
+    if kind == "range":
+        return Parameter(path, "grid", _grid_range(where, args))
+    if kind == "linspace":
+        return Parameter(path, "grid", _linspace(where, args))
+    if kind == "uniform":
+        low, high = _numbers(where, _named(where, args, ("low", "high")), 2, "[low, high]")
+        if not low < high:
+            raise UserInputError(f"{where}: expected low < high")
+        return Parameter(path, "uniform", low=low, high=high)
+    if kind == "normal":
+        mean, std = _numbers(where, _named(where, args, ("mean", "std")), 2, "[mean, std]")
+        if std <= 0:
+            raise UserInputError(f"{where}: expected std > 0")
+        return Parameter(path, "normal", mean=mean, std=std)
+    if kind == "truncated_normal":
+        names = ("mean", "std", "low", "high")
+        mean, std, low, high = _numbers(where, _named(where, args, names), 4, "[mean, std, low, high]")
+        if std <= 0 or not low < high:
+            raise UserInputError(f"{where}: expected std > 0 and low < high")
+        if _truncated_mass(mean, std, low, high) < MIN_TRUNCATED_MASS:
+            raise UserInputError(f"{where}: [low, high] holds almost none of the normal's probability")
+        return Parameter(path, "truncated_normal", mean=mean, std=std, low=low, high=high)
+    if kind == "choice":
+        values, weights = _choice(where, args)
+        return Parameter(path, "choice", values, weights)
+    raise UserInputError(
+        f"parameters.{path}: unknown kind {kind!r}; expected one of: range, linspace, values, uniform, normal, "
+        "truncated_normal, choice (or a plain list)"
+    )
+
+
+def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
+    """Validate a parsed YAML sweep document; relative base paths resolve against `folder`."""
+    if not isinstance(data, dict):
+        raise UserInputError(f"{source}: expected a mapping of sweep fields at the top level")
+    try:
+        document = SpecFile.model_validate(data)
+    except ValidationError as error:
+        lines = [f"{source}: invalid sweep spec"]
+        for item in error.errors(include_url=False):
+            message = "unknown field" if item["type"] == "extra_forbidden" else item["msg"]
+            lines.append(f"  {field_path(item['loc'])}: {message.removeprefix('Value error, ')}")
+        raise UserInputError("\n".join(lines)) from None
+    parameters = tuple(parse_parameter(str(path), value) for path, value in document.parameters.items())
+    clash = sorted(set(document.set) & set(document.parameters))
+    if clash:
+        raise UserInputError(f"set.{clash[0]}: a field is either fixed (set) or swept (parameters), not both")
+    grid_points = math.prod(len(p.values) for p in parameters if not p.is_random)
+    if grid_points * document.samples > MAX_VARIANTS:
+        raise UserInputError(f"samples: {grid_points * document.samples:,} variants exceed {MAX_VARIANTS:,}")
+    base_file = None if document.base is None else (folder / document.base)
+    return SweepSpec(
+        name=document.name or Path(source).stem,
+        description=document.description,
+        base_file=base_file,
+        catalogue=document.catalogue,
+        overrides=dict(document.set),
+        parameters=parameters,
+        samples=document.samples,
+        seed=document.seed,
+        batch_size=document.batch_size,
+        source=data,
+    )
+
+
+def load_spec(path: str | Path) -> SweepSpec:
+    """Read and validate a sweep spec YAML file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise UserInputError(f"{path}: no such sweep spec file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise UserInputError(f"{path}: cannot read sweep spec ({error.__class__.__name__}: {error})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        raise UserInputError(f"{path}: not valid YAML ({error})") from None
+    return spec_from_mapping(data, str(path), path.parent)

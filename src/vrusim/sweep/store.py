@@ -1,0 +1,128 @@
+"""The results folder of a sweep: manifest, design, and one Parquet file per finished batch.
+
+```
+OUT/manifest.json                 spec, plan (bases, parameters, seed), digest, counts, code version
+OUT/design.parquet                every variant's id, seed, test and parameter values
+OUT/chunks/chunk-000000.parquet   results of batch 0 (design columns, then result columns), ...
+```
+Every file is written to a temporary name and renamed into place, so a batch file exists completely or
+not at all: a sweep stopped at any instant (Ctrl-C, SIGKILL, a dead worker, a lost machine) leaves only
+complete batches, and `--resume` runs exactly the missing ones. Each variant therefore appears exactly once.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from vrusim.atomic_io import write_atomically
+from vrusim.errors import UserInputError
+
+FORMAT = "vrusim-sweep/1"
+MANIFEST = "manifest.json"
+DESIGN = "design.parquet"
+CHUNKS = "chunks"
+_CHUNK_NAME = re.compile(r"chunk-(\d{6,})\.parquet")
+
+
+def chunk_name(index: int) -> str:
+    """File name of batch `index`."""
+    return f"chunk-{index:06d}.parquet"
+
+
+class SweepStore:
+    """Reads and writes one sweep's results folder."""
+
+    def __init__(self, folder: str | Path) -> None:
+        self.folder = Path(folder)
+        self.chunks = self.folder / CHUNKS
+
+    @property
+    def manifest_path(self) -> Path:
+        return self.folder / MANIFEST
+
+    def create(self, manifest: dict[str, Any], design: pa.Table) -> None:
+        """Start a new results folder (missing or empty): design first, then the manifest that marks it."""
+        if self.folder.exists() and (not self.folder.is_dir() or any(self.folder.iterdir())):
+            raise UserInputError(
+                f"--out: {self.folder} already exists and is not empty; use --resume to continue the sweep in it, "
+                "or choose a new folder"
+            )
+        try:
+            self.chunks.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise UserInputError(f"--out: cannot create {self.chunks} ({error.strerror or error})") from None
+        write_atomically(self.folder / DESIGN, lambda path: pq.write_table(design, path), "sweep design")
+        text = json.dumps({"format": FORMAT, **manifest}, indent=2, allow_nan=False)
+        write_atomically(self.manifest_path, lambda path: path.write_text(text + "\n"), "sweep manifest")
+
+    def manifest(self) -> dict[str, Any]:
+        """The manifest of an existing results folder."""
+        try:
+            manifest = json.loads(self.manifest_path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise UserInputError(f"{self.folder}: not a sweep results folder (no {MANIFEST})") from None
+        except (OSError, ValueError) as error:
+            raise UserInputError(f"{self.manifest_path}: cannot read the sweep manifest ({error})") from None
+        if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
+            raise UserInputError(f"{self.manifest_path}: not a {FORMAT} manifest")
+        return manifest
+
+    def design(self) -> pa.Table:
+        """The stored design table."""
+        try:
+            return pq.read_table(self.folder / DESIGN)
+        except (OSError, pa.ArrowException) as error:
+            raise UserInputError(f"{self.folder / DESIGN}: cannot read the sweep design ({error})") from None
+
+    def clean_temporary(self) -> int:
+        """Remove temporary files left by an interrupted write; return how many."""
+        removed = 0
+        for path in self.chunks.glob(".*.tmp"):
+            path.unlink(missing_ok=True)
+            removed += 1
+        return removed
+
+    def finished(self) -> set[int]:
+        """Indices of the batches whose results file exists."""
+        if not self.chunks.is_dir():
+            return set()
+        found = set()
+        for path in self.chunks.iterdir():
+            match = _CHUNK_NAME.fullmatch(path.name)
+            if match:
+                found.add(int(match.group(1)))
+        return found
+
+    def write_chunk(self, index: int, table: pa.Table) -> Path:
+        """Write batch `index` atomically."""
+        return write_atomically(self.chunks / chunk_name(index), lambda path: pq.write_table(table, path), "results")
+
+    def chunk_files(self) -> list[Path]:
+        """The finished batch files, in batch order."""
+        return [self.chunks / chunk_name(i) for i in sorted(self.finished())]
+
+    def variant_ids(self) -> np.ndarray:
+        """The `variant` column of every finished batch, concatenated in batch order."""
+        parts = [pq.read_table(path, columns=["variant"]).column("variant").to_numpy() for path in self.chunk_files()]
+        return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+
+    def read(self) -> pa.Table:
+        """Every finished row, sorted by variant (batches with other planners may add columns: NULL elsewhere)."""
+        tables = [pq.read_table(path) for path in self.chunk_files()]
+        if not tables:
+            raise UserInputError(f"{self.folder}: no finished batches yet")
+        table = pa.concat_tables(tables, promote_options="default")
+        return table.sort_by("variant")
+
+
+def check_exactly_once(ids: np.ndarray, variants: int) -> tuple[int, int, int]:
+    """(present, duplicated, missing) counts of variant ids 0 … variants−1."""
+    counts = np.bincount(ids, minlength=variants) if ids.size else np.zeros(variants, dtype=np.int64)
+    return int((counts > 0).sum()), int((counts > 1).sum()), int((counts[:variants] == 0).sum())

@@ -1,0 +1,266 @@
+"""Running sweeps: identical results on 1 or 2 workers and on a Dask cluster, resumable store, exactly once."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pyarrow as pa
+import pyarrow.compute as pc
+import pytest
+import yaml
+
+from cli_helpers import assert_user_error, invoke
+from conftest import PAPER_DIR, REPO_ROOT
+from vrusim.catalog.ncap import run_tests, select
+from vrusim.metrics.summary import summary_rows
+from vrusim.sim.engine import simulate
+from vrusim.sweep.plan import VariantBuilder, make_plan
+from vrusim.sweep.runner import run_sweep
+from vrusim.sweep.spec import load_spec
+from vrusim.sweep.store import SweepStore, chunk_name
+
+SPEC = {
+    "name": "test-sweep",
+    "base": str(PAPER_DIR / "pedestrian_crossing.yaml"),
+    "set": {"v2x.enabled": True, "sim.duration_s": 8.0},
+    "parameters": {
+        "ego.cruise_speed_mps": {"uniform": [10.0, 18.0]},
+        "v2x.channel": ["ideal", "lossy", "bursty"],
+        "vrus[0].top_speed_mps": {"truncated_normal": [1.5, 0.4, 0.8, 2.5]},
+    },
+    "samples": 40,
+    "seed": 3,
+    "batch_size": 20,
+}
+
+
+def write_spec(folder: Path, **changes) -> Path:
+    path = folder / "spec.yaml"
+    path.write_text(yaml.safe_dump({**SPEC, **changes}))
+    return path
+
+
+def results(folder: Path) -> pa.Table:
+    return SweepStore(folder).read()
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> pa.Table:
+    """The test sweep run in this process, uninterrupted."""
+    folder = tmp_path_factory.mktemp("reference")
+    run_sweep(load_spec(write_spec(folder)), folder / "out", workers=1)
+    return results(folder / "out")
+
+
+def sweep_command(*args) -> list[str]:
+    return [sys.executable, "-m", "vrusim", "sweep", *map(str, args)]
+
+
+def test_rows_hold_the_design_and_the_results_without_nan(reference):
+    assert reference.num_rows == 120
+    assert reference.column("variant").to_pylist() == list(range(120))
+    for name in ("seed", "ego.cruise_speed_mps", "v2x.channel", "vrus[0].top_speed_mps", "outcome", "min_ttc_s"):
+        assert name in reference.column_names
+    for name in reference.column_names:
+        column = reference.column(name)
+        if pa.types.is_floating(column.type):
+            assert not pc.any(pc.is_nan(column)).as_py(), name
+    assert set(reference.column("outcome").to_pylist()) <= {"collision", "avoided"}
+    assert reference.column("collided").null_count == 0
+
+
+def test_rows_equal_running_the_variants_directly(reference, tmp_path):
+    """The stored numbers are those of the engine on the same scenarios, built the slow way."""
+    plan = make_plan(load_spec(write_spec(tmp_path)))
+    design = {
+        name: reference.column(name).to_pylist() for name in ("variant", "seed", *[p.path for p in plan.parameters])
+    }
+    rows = [0, 41, 119]
+    scenarios = VariantBuilder(plan).build(design, rows)
+    direct = summary_rows(simulate(scenarios))
+    for row, summary in zip(rows, direct, strict=True):
+        assert scenarios[rows.index(row)].sim.seed == reference.column("seed")[row].as_py()
+        assert reference.column("collided")[row].as_py() == summary["collided"]
+        stored = reference.column("min_ttc_s")[row].as_py()
+        assert (stored is None and summary["min_ttc_s"] is None) or round(stored, 6) == summary["min_ttc_s"]
+        assert round(reference.column("safety")[row].as_py(), 4) == summary["safety"]
+
+
+def test_two_local_workers_give_identical_results(reference, tmp_path):
+    run_sweep(load_spec(write_spec(tmp_path)), tmp_path / "out", workers=2)
+    assert results(tmp_path / "out").equals(reference)
+
+
+def test_batch_size_does_not_change_results(reference, tmp_path):
+    run_sweep(load_spec(write_spec(tmp_path)), tmp_path / "out", workers=1, batch_size=7)
+    assert results(tmp_path / "out").equals(reference)
+    assert len(SweepStore(tmp_path / "out").chunk_files()) == 18
+
+
+def test_dask_local_cluster_gives_identical_results(reference, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        completed = subprocess.run(
+            sweep_command(
+                write_spec(tmp_path), "--out", tmp_path / "out", "--scheduler", cluster.scheduler_address, "--quiet"
+            ),
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+    assert completed.returncode == 0, completed.stderr
+    assert results(tmp_path / "out").equals(reference)
+
+
+def test_sigkill_then_resume_gives_every_variant_exactly_once(reference, tmp_path):
+    spec = write_spec(tmp_path, batch_size=4)
+    out = tmp_path / "out"
+    process = subprocess.Popen(
+        sweep_command(spec, "--out", out, "--workers", "2", "--quiet"),
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    store = SweepStore(out)
+    deadline = time.monotonic() + 120
+    while len(store.finished()) < 3 and time.monotonic() < deadline and process.poll() is None:
+        time.sleep(0.02)
+    os.killpg(process.pid, signal.SIGKILL)
+    process.wait()
+    finished = len(store.finished())
+    assert 3 <= finished < 30, finished  # killed mid-way
+    completed = subprocess.run(
+        sweep_command("--out", out, "--resume", "--quiet", "--json"), capture_output=True, text=True, timeout=300
+    )
+    assert completed.returncode == 0, completed.stderr
+    outcome = json.loads(completed.stdout)
+    assert outcome["batches_reused"] == finished and outcome["batches_run"] == 30 - finished
+    ids = store.variant_ids()
+    assert sorted(ids.tolist()) == list(range(120))
+    assert results(out).equals(reference)
+    assert not list(store.chunks.glob(".*"))  # no temporary file left
+
+
+def test_ctrl_c_stops_cleanly_and_resume_finishes(reference, tmp_path):
+    spec = write_spec(tmp_path, batch_size=4)
+    out = tmp_path / "out"
+    process = subprocess.Popen(
+        sweep_command(spec, "--out", out, "--workers", "1", "--quiet"), stderr=subprocess.PIPE, text=True
+    )
+    store = SweepStore(out)
+    deadline = time.monotonic() + 120
+    while len(store.finished()) < 2 and time.monotonic() < deadline:
+        time.sleep(0.02)
+    process.send_signal(signal.SIGINT)
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert "continue with --resume" in stderr and "Traceback" not in stderr
+    assert len(store.finished()) < 30
+    run_sweep(None, out, resume=True)
+    assert results(out).equals(reference)
+
+
+def test_a_dying_worker_is_replaced_and_its_batch_rerun(tmp_path):
+    spec = write_spec(
+        tmp_path,
+        set={"planner": {"name": "crash_once_planner:CrashOnce", "params": {}}},
+        parameters={"ego.cruise_speed_mps": [8.0, 10.0, 12.0, 14.0]},
+        samples=1,
+        batch_size=1,
+    )
+    env = {
+        **os.environ,
+        "VRUSIM_CRASH_MARKER": str(tmp_path / "crashed"),
+        "PYTHONPATH": os.pathsep.join([str(REPO_ROOT / "tests"), os.environ.get("PYTHONPATH", "")]),
+    }
+    completed = subprocess.run(
+        sweep_command(spec, "--out", tmp_path / "out", "--workers", "2", "--quiet"),
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
+    assert completed.returncode == 0, completed.stderr
+    assert (tmp_path / "crashed").exists()
+    assert sorted(SweepStore(tmp_path / "out").variant_ids().tolist()) == [0, 1, 2, 3]
+
+
+def test_resume_reruns_exactly_the_missing_batches(reference, tmp_path):
+    out = tmp_path / "out"
+    run_sweep(load_spec(write_spec(tmp_path)), out)
+    store = SweepStore(out)
+    (store.chunks / chunk_name(2)).unlink()
+    (store.chunks / ".chunk-000003.parquet.abc.tmp").write_bytes(b"half")
+    outcome = run_sweep(None, out, resume=True)
+    assert (outcome.chunks_run, outcome.chunks_reused) == (1, 5)
+    assert results(out).equals(reference)
+    assert run_sweep(None, out, resume=True).chunks_run == 0
+
+
+def test_catalogue_sweep_matches_the_catalogue_run(tmp_path):
+    path = tmp_path / "spec.yaml"
+    path.write_text(
+        yaml.safe_dump({"catalogue": {"scenarios": ["CPNA-25", "CBLA-50"], "planner": "none"}, "batch_size": 8})
+    )
+    run_sweep(load_spec(path), tmp_path / "out")
+    table = results(tmp_path / "out")
+    catalogue = {row["test_id"]: row for row in run_tests(select(["CPNA-25", "CBLA-50"]), planner="none").rows}
+    assert table.column("test").to_pylist() == list(catalogue)
+    assert table.column("collided").to_pylist() == [row["collided"] for row in catalogue.values()]
+    speeds = [row["impact_speed_mps"] for row in catalogue.values()]
+    stored = [None if v is None else round(v, 6) for v in table.column("impact_ego_speed_mps").to_pylist()]
+    assert stored == speeds and any(s is not None for s in speeds)
+
+
+def test_cli_sweep_reports_and_refuses_to_overwrite(tmp_path):
+    spec = write_spec(tmp_path, samples=2, parameters={"ego.cruise_speed_mps": [12.0, 14.0]})
+    first = invoke("sweep", spec, "--out", tmp_path / "out", "--workers", "1", "--json")
+    assert first.exit_code == 0, first.output
+    assert json.loads(first.stdout)["variants"] == 4
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert manifest["variants"] == 4 and manifest["code"]["source_sha256"]
+    assert_user_error(invoke("sweep", spec, "--out", tmp_path / "out"), "--out", "already exists", "--resume")
+    changed = write_spec(tmp_path, samples=3, parameters={"ego.cruise_speed_mps": [12.0, 14.0]})
+    assert_user_error(invoke("sweep", changed, "--out", tmp_path / "out", "--resume"), "SPEC: differs")
+    assert_user_error(invoke("sweep", "--out", tmp_path / "out", "--resume", "--batch-size", "3"), "--batch-size")
+
+
+@pytest.mark.parametrize(
+    ("changes", "names"),
+    [
+        ({"parameters": {"ego.speed": [1.0]}}, ["parameters: ego.speed", "unknown field"]),
+        (
+            {"parameters": {"vrus[0].top_speed_mps": {"uniform": [-1.0, 2.0]}}},
+            ["variant", "vrus[0].top_speed_mps", "greater than or equal to 0"],
+        ),
+        ({"parameters": {"planner.params.emergency_decel_mps2": [-3.0]}}, ["planner.params.emergency_decel_mps2"]),
+        ({"parameters": {"v2x.channel": ["ideal", "nonsense"]}}, ["v2x.channel", "unknown channel profile"]),
+        ({"base": "missing.yaml"}, ["missing.yaml", "no such scenario file"]),
+        ({"catalogue": {"scenarios": ["XYZ"]}, "base": None}, ["catalogue.scenarios", "XYZ"]),
+    ],
+)
+def test_bad_sweeps_fail_before_anything_is_written(tmp_path, changes, names):
+    data = {**SPEC, **changes}
+    path = tmp_path / "spec.yaml"
+    path.write_text(yaml.safe_dump({k: v for k, v in data.items() if v is not None}))
+    assert_user_error(invoke("sweep", path, "--out", tmp_path / "out", "--workers", "1"), *names)
+    assert not (tmp_path / "out").exists()
+
+
+def test_cli_option_errors(tmp_path):
+    assert_user_error(invoke("sweep", tmp_path / "nope.yaml", "--out", tmp_path / "o"), "no such sweep spec file")
+    assert_user_error(invoke("sweep", write_spec(tmp_path), "--workers", "-1", "--out", tmp_path / "o"), "--workers")
+    assert_user_error(invoke("sweep", "--out", tmp_path / "o", "--resume"), "not a sweep results folder")
+    assert_user_error(invoke("sweep", "--out", tmp_path / "o"), "SPEC")
+    assert_user_error(
+        invoke("sweep", write_spec(tmp_path), "--out", tmp_path / "o", "--scheduler", "tcp://127.0.0.1:1"),
+        "--scheduler",
+    )

@@ -1,0 +1,269 @@
+"""Sweep specs, field paths, fast variants and the design: parsing, errors, determinism, distributions."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import given
+from hypothesis import strategies as st
+
+from conftest import PAPER_DIR
+from vrusim.errors import UserInputError
+from vrusim.scenario.loading import load_scenario
+from vrusim.scenario.schema import Scenario
+from vrusim.scenario.v2x_channel import resolve_channel
+from vrusim.sweep.design import make_design, preflight_rows, variant_seeds
+from vrusim.sweep.field_paths import check_path, parse_path, with_values
+from vrusim.sweep.plan import TEST_COLUMN, VariantBuilder, make_plan
+from vrusim.sweep.spec import parse_parameter, spec_from_mapping
+
+PEDESTRIAN = PAPER_DIR / "pedestrian_crossing.yaml"
+
+
+def spec(parameters: dict, **fields):
+    data = {"base": str(PEDESTRIAN), "parameters": parameters, **fields}
+    return spec_from_mapping(data, "spec.yaml", Path("."))
+
+
+@pytest.fixture(scope="module")
+def base() -> Scenario:
+    return load_scenario(PEDESTRIAN)
+
+
+# --------------------------------------------------------------------------------------------- parameters
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "values"),
+    [
+        ([1, 2, 3], "grid", (1, 2, 3)),
+        ({"values": ["ideal", "lossy"]}, "grid", ("ideal", "lossy")),
+        ({"range": [10, 12, 0.5]}, "grid", (10.0, 10.5, 11.0, 11.5, 12.0)),
+        ({"range": {"start": 0, "stop": 0.3, "step": 0.1}}, "grid", (0.0, 0.1, 0.2, 0.3)),
+        ({"linspace": [0, 1, 3]}, "grid", (0.0, 0.5, 1.0)),
+        ({"choice": [True, False]}, "choice", (True, False)),
+    ],
+)
+def test_grid_and_choice_values(value, kind, values):
+    parameter = parse_parameter("x", value)
+    assert (parameter.kind, parameter.values) == (kind, values)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (3.0, "give a fixed value under `set`"),
+        ([], "at least one value"),
+        ({"uniform": [2, 1]}, "parameters.x.uniform: expected low < high"),
+        ({"uniform": [1]}, "parameters.x.uniform: expected [low, high]"),
+        ({"uniform": [0, "a"]}, "expected [low, high]"),
+        ({"normal": [1, 0]}, "parameters.x.normal: expected std > 0"),
+        ({"truncated_normal": [0, 1, 50, 60]}, "holds almost none"),
+        ({"truncated_normal": {"mean": 0, "std": 1}}, "expected the keys mean, std, low, high"),
+        ({"range": [0, 1, 0]}, "step > 0"),
+        ({"linspace": [0, 1, 0]}, "count must be a whole number"),
+        ({"choice": {"values": [1, 2], "weights": [1]}}, "2 weights, one per value"),
+        ({"choice": {"values": [1, 2], "weights": [-1, 2]}}, "non-negative weights"),
+        ({"gamma": [1, 2]}, "unknown kind 'gamma'"),
+        ({"uniform": [0, 1], "normal": [0, 1]}, "expected a list of values or one of"),
+    ],
+)
+def test_bad_parameters_name_the_entry(value, message):
+    with pytest.raises(UserInputError, match=r"parameters\.x") as error:
+        parse_parameter("x", value)
+    assert message in str(error.value)
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        ({"parameters": {}}, "give exactly one of base"),
+        ({"base": "a.yaml", "catalogue": {"scenarios": ["CPNA"]}, "parameters": {}}, "give exactly one of base"),
+        ({"base": str(PEDESTRIAN), "samples": 0}, "samples: Input should be greater than or equal to 1"),
+        ({"base": str(PEDESTRIAN), "sampels": 3}, "sampels: unknown field"),
+        ({"base": str(PEDESTRIAN), "set": {"a": 1}, "parameters": {"a": [1, 2]}}, "set.a: a field is either fixed"),
+        ({"base": str(PEDESTRIAN), "parameters": {"a": [1, 2]}, "samples": 10**8}, "exceed"),
+    ],
+)
+def test_bad_spec_documents(data, message):
+    with pytest.raises(UserInputError) as error:
+        spec_from_mapping(data, "spec.yaml", Path("."))
+    assert message in str(error.value)
+
+
+# -------------------------------------------------------------------------------------------------- paths
+
+
+def test_paths_parse_into_names_and_indices():
+    assert parse_path("vrus[0].trigger.at_time_s") == ("vrus", 0, "trigger", "at_time_s")
+    assert parse_path("obstacles[1][2].x") == ("obstacles", 1, 2, "x")
+    with pytest.raises(UserInputError, match="not a field path"):
+        parse_path("vrus..x")
+
+
+@pytest.mark.parametrize(
+    ("path", "message"),
+    [
+        ("ego.speed", "unknown field 'speed' in ego"),
+        ("ego.cruise_speed", "did you mean cruise_speed_mps?"),
+        ("vrus[2].top_speed_mps", "vrus has 1 element(s), no [2]"),
+        ("vrus[0].brake.decel_mps2", "vrus[0].brake is not set in the base scenario"),
+        ("ego.cruise_speed_mps.x", "is a value (15.0)"),
+        ("ego[0]", "ego is not a list"),
+        ("v2x.channel.loss.probability", "unknown field 'probability' in v2x.channel.loss"),
+    ],
+)
+def test_unknown_paths_explain_the_step(base, path, message):
+    with pytest.raises(UserInputError) as error:
+        check_path(base, path)
+    assert message in str(error.value)
+
+
+def test_a_channel_profile_is_walked_as_its_specification(base):
+    steps = check_path(base, "v2x.channel.latency_s")
+    variant = with_values(base, [(steps, 0.25), (check_path(base, "v2x.channel.track_max_age_s"), 1.0)], "v")
+    expected = resolve_channel("ideal").model_copy(update={"latency_s": 0.25, "track_max_age_s": 1.0})
+    assert variant.v2x.channel == expected
+
+
+def _slow_variant(base: Scenario, cruise: float, vru_speed: float, start_s: float, latency: float) -> Scenario:
+    data = base.model_dump()
+    data["ego"]["cruise_speed_mps"] = cruise
+    data["vrus"][0]["top_speed_mps"] = vru_speed
+    data["vrus"][0]["trigger"]["at_time_s"] = start_s
+    data["v2x"]["enabled"] = True
+    data["v2x"]["channel"] = {**resolve_channel("ideal").model_dump(), "latency_s": latency, "track_max_age_s": 2.0}
+    return Scenario.model_validate(data)
+
+
+@given(
+    cruise=st.floats(0.0, 40.0),
+    vru_speed=st.floats(0.0, 10.0),
+    start_s=st.floats(0.0, 5.0),
+    latency=st.floats(0.0, 1.0),
+)
+def test_copy_on_write_variant_equals_a_full_validation(base, cruise, vru_speed, start_s, latency):
+    paths = ["ego.cruise_speed_mps", "vrus[0].top_speed_mps", "vrus[0].trigger.at_time_s", "v2x.enabled"]
+    paths += ["v2x.channel.latency_s", "v2x.channel.track_max_age_s"]
+    values = [cruise, vru_speed, start_s, True, latency, 2.0]
+    fast = with_values(base, [(check_path(base, p), v) for p, v in zip(paths, values, strict=True)], "v")
+    assert fast == _slow_variant(base, cruise, vru_speed, start_s, latency)
+    assert base.ego.cruise_speed_mps == 15.0 and not base.v2x.enabled  # the base is untouched
+
+
+def test_a_bad_value_names_the_field(base):
+    with pytest.raises(UserInputError, match=r"ego.cruise_speed_mps: Input should be greater than or equal to 0"):
+        with_values(base, [(check_path(base, "ego.cruise_speed_mps"), -1.0)], "variant 3")
+    with pytest.raises(UserInputError, match=r"vrus.0. starts overlapping the ego vehicle"):
+        with_values(base, [(check_path(base, "vrus[0].start"), [-50.0, -1.75])], "variant 3")
+
+
+# ------------------------------------------------------------------------------------------------- design
+
+
+def test_grid_dimensions_vary_slowest_first_with_samples_innermost():
+    plan = make_plan(spec({"ego.cruise_speed_mps": [10, 20], "v2x.enabled": [False, True]}, samples=3))
+    design = make_design(plan)
+    assert plan.variants == 12 and plan.grid_points == 4
+    assert design["ego.cruise_speed_mps"].tolist() == [10] * 6 + [20] * 6
+    assert design["v2x.enabled"].tolist() == ([False] * 3 + [True] * 3) * 2
+    assert design["variant"].tolist() == list(range(12))
+    assert len(set(design["seed"].tolist())) == 12
+
+
+def test_draws_are_reproducible_and_do_not_depend_on_other_parameters():
+    one = make_design(make_plan(spec({"ego.cruise_speed_mps": {"uniform": [10, 20]}}, samples=500, seed=9)))
+    again = make_design(make_plan(spec({"ego.cruise_speed_mps": {"uniform": [10, 20]}}, samples=500, seed=9)))
+    more = make_design(
+        make_plan(
+            spec(
+                {"vrus[0].top_speed_mps": {"normal": [1.5, 0.1]}, "ego.cruise_speed_mps": {"uniform": [10, 20]}},
+                samples=500,
+                seed=9,
+            )
+        )
+    )
+    other_seed = make_design(make_plan(spec({"ego.cruise_speed_mps": {"uniform": [10, 20]}}, samples=500, seed=10)))
+    np.testing.assert_array_equal(one["ego.cruise_speed_mps"], again["ego.cruise_speed_mps"])
+    np.testing.assert_array_equal(one["ego.cruise_speed_mps"], more["ego.cruise_speed_mps"])
+    np.testing.assert_array_equal(one["seed"], more["seed"])
+    assert not np.array_equal(one["ego.cruise_speed_mps"], other_seed["ego.cruise_speed_mps"])
+
+
+def test_distributions_have_their_moments_and_supports():
+    n = 40_000
+    design = make_design(
+        make_plan(
+            spec(
+                {
+                    "ego.cruise_speed_mps": {"uniform": [10, 20]},
+                    "vrus[0].top_speed_mps": {"truncated_normal": {"mean": 1.5, "std": 0.5, "low": 1.0, "high": 3.0}},
+                    "vrus[0].trigger.at_time_s": {"normal": [2.0, 0.3]},
+                    "v2x.channel": {"choice": {"values": ["ideal", "lossy"], "weights": [3, 1]}},
+                },
+                samples=n,
+            )
+        )
+    )
+    uniform = design["ego.cruise_speed_mps"]
+    assert uniform.min() >= 10 and uniform.max() < 20 and abs(uniform.mean() - 15) < 0.05
+    truncated = design["vrus[0].top_speed_mps"]
+    assert truncated.min() >= 1.0 and truncated.max() <= 3.0
+    # mean of N(1.5, 0.5) truncated to [1, 3]: mu + sigma (phi(a) - phi(b)) / (Phi(b) - Phi(a))
+    a, b = (1.0 - 1.5) / 0.5, (3.0 - 1.5) / 0.5
+    phi = lambda z: math.exp(-z * z / 2) / math.sqrt(2 * math.pi)  # noqa: E731
+    cdf = lambda z: 0.5 * (1 + math.erf(z / math.sqrt(2)))  # noqa: E731
+    assert abs(truncated.mean() - (1.5 + 0.5 * (phi(a) - phi(b)) / (cdf(b) - cdf(a)))) < 0.01
+    normal = design["vrus[0].trigger.at_time_s"]
+    assert abs(normal.mean() - 2.0) < 0.01 and abs(normal.std() - 0.3) < 0.01
+    assert abs(np.mean(design["v2x.channel"] == "ideal") - 0.75) < 0.01
+
+
+def test_variant_seeds_are_distinct_non_negative_and_keyed_by_master_seed():
+    seeds = variant_seeds(1, 100_000)
+    assert seeds.min() >= 0 and len(np.unique(seeds)) == seeds.size
+    assert not np.array_equal(seeds[:10], variant_seeds(2, 10))
+    np.testing.assert_array_equal(seeds[:10], variant_seeds(1, 10))
+
+
+def test_a_swept_sim_seed_is_the_variant_seed():
+    design = make_design(make_plan(spec({"sim.seed": [5, 6, 7]})))
+    assert design["seed"].tolist() == [5, 6, 7]
+
+
+def test_preflight_rows_cover_extremes_and_every_discrete_value():
+    plan = make_plan(
+        spec({"v2x.channel": ["ideal", "lossy", "bursty"], "ego.cruise_speed_mps": {"uniform": [5, 25]}}, samples=2000)
+    )
+    design = make_design(plan)
+    rows = preflight_rows(design, plan, first=10)
+    speeds = design["ego.cruise_speed_mps"][rows]
+    assert speeds.min() == design["ego.cruise_speed_mps"].min() and speeds.max() == design["ego.cruise_speed_mps"].max()
+    assert set(design["v2x.channel"][rows]) == {"ideal", "lossy", "bursty"}
+    assert plan.variants - 1 in rows and len(rows) < 30
+
+
+def test_catalogue_base_adds_the_test_dimension():
+    data = {"catalogue": {"scenarios": ["CPNA-25"]}, "parameters": {"vrus[0].top_speed_mps": [1.0, 2.0]}}
+    plan = make_plan(spec_from_mapping(data, "spec.yaml", Path(".")))
+    design = make_design(plan)
+    tests = list(plan.tests)
+    assert len(tests) >= 5 and plan.variants == 2 * len(tests)
+    assert design[TEST_COLUMN].tolist()[:2] == [tests[0], tests[0]]
+    variants = VariantBuilder(plan).build({k: v.tolist() for k, v in design.items()}, range(2))
+    assert [v.vrus[0].top_speed_mps for v in variants] == [1.0, 2.0]
+    assert variants[0].name == tests[0]
+
+
+def test_spec_file_base_is_relative_to_the_spec(tmp_path):
+    (tmp_path / "sub").mkdir()
+    path = tmp_path / "sub" / "s.yaml"
+    path.write_text(yaml.safe_dump({"base": "../ped.yaml", "parameters": {"ego.cruise_speed_mps": [10]}}))
+    (tmp_path / "ped.yaml").write_text(PEDESTRIAN.read_text())
+    from vrusim.sweep.spec import load_spec
+
+    assert make_plan(load_spec(path)).variants == 1
