@@ -1,0 +1,1 @@
+"""Parameter sweeps: specs, execution, the Parquet results store and its analysis."""
