@@ -24,6 +24,7 @@ from rich.table import Table
 from vrusim import __version__
 from vrusim.cli_compare import register as register_compare_command
 from vrusim.cli_ncap import register as register_catalogue_commands
+from vrusim.cli_summarize import register as register_summarize_command
 from vrusim.cli_support import USER_ERROR_EXIT_CODE, V2XSwitch, print_json, report_user_error, user_errors
 from vrusim.cli_support import console as _console
 from vrusim.cli_sweep import register as register_sweep_command
@@ -298,6 +299,7 @@ def paper(
 register_catalogue_commands(app)
 register_compare_command(app)
 register_sweep_command(app)
+register_summarize_command(app)
 
 # ----------------------------------------------------------------------------------------------- entry point
 

@@ -39,7 +39,9 @@ def wilson_interval(successes: int, trials: int, z: float = 1.959964) -> tuple[f
     denominator = 1 + z * z / trials
     centre = (p + z * z / (2 * trials)) / denominator
     half = z * math.sqrt(p * (1 - p) / trials + z * z / (4 * trials * trials)) / denominator
-    return max(0.0, centre - half), min(1.0, centre + half)
+    low = 0.0 if successes == 0 else max(0.0, centre - half)  # exact ends: rounding would give 1e-17 or 1 − 1e-16
+    high = 1.0 if successes == trials else min(1.0, centre + half)
+    return low, high
 
 
 def variant(base: Scenario, combination: Combination, seed: int, channel: dict | str | None = None) -> Scenario:
