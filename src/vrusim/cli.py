@@ -2,6 +2,7 @@
 
     vrusim run FILE.yaml [--v2x on|off] [--json] [--trace OUT.csv|OUT.parquet]
     vrusim paper [--json]
+    vrusim list | ncap | compare | sweep | summarize ...   (see `vrusim COMMAND --help`)
     vrusim --version
 
 Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit

@@ -39,14 +39,14 @@ class SweepResult:
     chunks: int
     chunks_run: int
     chunks_reused: int
+    variants_run: int
     elapsed_s: float
     warnings: list[str] = field(default_factory=list)
 
     @property
     def variants_per_s(self) -> float:
-        """Variants simulated (and stored) by this call per second of wall time."""
-        ran = min(self.variants, self.chunks_run * max(1, self.variants // max(1, self.chunks)))
-        return ran / self.elapsed_s if self.elapsed_s > 0 else 0.0
+        """Variants simulated and stored by this call per second of its wall time (planning included)."""
+        return self.variants_run / self.elapsed_s if self.elapsed_s > 0 else 0.0
 
 
 def code_version() -> dict[str, Any]:
@@ -165,6 +165,7 @@ def run_sweep(
     finished = store.finished()
     pending = [i for i in range(plan.chunks) if i not in finished]
     done_variants = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
+    already_done = done_variants
     if progress:
         progress(int(done_variants), plan.variants)
 
@@ -191,6 +192,7 @@ def run_sweep(
         plan.chunks,
         len(pending),
         len(finished),
+        int(done_variants - already_done),
         time.perf_counter() - started,
         warnings,
     )
