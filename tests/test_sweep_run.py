@@ -205,6 +205,22 @@ def test_resume_reruns_exactly_the_missing_batches(reference, tmp_path):
     assert run_sweep(None, out, resume=True).chunks_run == 0
 
 
+def test_resume_warns_when_the_code_changed(tmp_path):
+    spec = write_spec(tmp_path, samples=1, parameters={"ego.cruise_speed_mps": [12.0, 14.0]}, batch_size=1)
+    out = tmp_path / "out"
+    run_sweep(load_spec(spec), out)
+    (SweepStore(out).chunks / chunk_name(1)).unlink()
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest["code"]["source_sha256"] = "0" * 64
+    (out / "manifest.json").write_text(json.dumps(manifest))
+    result = invoke("sweep", "--out", out, "--resume", "--quiet")
+    assert result.exit_code == 0, result.output
+    assert "Warning: the code changed since the sweep started" in result.stderr
+    manifest["plan"]["seed"] = 99  # an edited plan no longer matches its digest
+    (out / "manifest.json").write_text(json.dumps(manifest))
+    assert_user_error(invoke("sweep", "--out", out, "--resume"), "manifest.json", "digest")
+
+
 def test_catalogue_sweep_matches_the_catalogue_run(tmp_path):
     path = tmp_path / "spec.yaml"
     path.write_text(

@@ -114,7 +114,7 @@ def _open(
             "name": plan.name,
             "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
             "spec": spec.source,
-            "spec_file": None if spec.base_file is None else str(spec.base_file),
+            "base_file": None if spec.base_file is None else str(spec.base_file.resolve()),
             "variants": plan.variants,
             "grid_points": plan.grid_points,
             "samples": plan.samples,

@@ -59,7 +59,7 @@ class SweepStore:
         except OSError as error:
             raise UserInputError(f"--out: cannot create {self.chunks} ({error.strerror or error})") from None
         write_atomically(self.folder / DESIGN, lambda path: pq.write_table(design, path), "sweep design")
-        text = json.dumps({"format": FORMAT, **manifest}, indent=2, allow_nan=False)
+        text = json.dumps({"format": FORMAT, **manifest}, indent=2, allow_nan=False, default=str)  # YAML dates
         write_atomically(self.manifest_path, lambda path: path.write_text(text + "\n"), "sweep manifest")
 
     def manifest(self) -> dict[str, Any]:
