@@ -280,3 +280,16 @@ def test_cli_option_errors(tmp_path):
         invoke("sweep", write_spec(tmp_path), "--out", tmp_path / "o", "--scheduler", "tcp://127.0.0.1:1"),
         "--scheduler",
     )
+
+
+def test_dry_run_plans_and_checks_without_writing(tmp_path):
+    result = invoke("sweep", write_spec(tmp_path), "--out", tmp_path / "out", "--dry-run", "--json")
+    assert result.exit_code == 0, result.output
+    plan = json.loads(result.stdout)
+    assert (plan["variants"], plan["grid_points"], plan["batches"]) == (120, 3, 6)
+    speed = next(p for p in plan["parameters"] if p["name"] == "ego.cruise_speed_mps")
+    assert 10.0 <= speed["drawn_min"] < speed["drawn_max"] < 18.0
+    assert plan["variants_checked"] == 120  # small sweeps are checked in full
+    assert not (tmp_path / "out").exists()
+    bad = write_spec(tmp_path, parameters={"vrus[0].top_speed_mps": {"uniform": [-1.0, 2.0]}})
+    assert_user_error(invoke("sweep", bad, "--dry-run"), "vrus[0].top_speed_mps")

@@ -52,10 +52,14 @@ def sweep_command(
         bool, typer.Option("--resume", help="Continue the sweep in --out: run the missing batches.")
     ] = False,
     quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    dry_run: Annotated[
+        bool, typer.Option("--dry-run", help="Plan, draw and check the variants; run and write nothing.")
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print the outcome as one JSON document.")] = False,
 ) -> None:
     """Run every variant of a sweep spec; results go to OUT/chunks/*.parquet, batch by batch (resumable)."""
     from vrusim.sweep.execute import SweepAbortedError, cpu_count
+    from vrusim.sweep.runner import dry_run as plan_only
     from vrusim.sweep.runner import run_sweep
     from vrusim.sweep.spec import load_spec
 
@@ -66,6 +70,13 @@ def sweep_command(
             from vrusim.errors import UserInputError
 
             raise UserInputError("--workers: expected a positive number of worker processes (0: all cores)")
+        if dry_run:
+            if spec is None:
+                from vrusim.errors import UserInputError
+
+                raise UserInputError("SPEC: --dry-run needs a sweep spec file")
+            _print_plan(plan_only(spec, batch_size), as_json)
+            return
         bar = Progress(
             TextColumn("[bold]{task.description}"),
             BarColumn(),
@@ -116,6 +127,23 @@ def sweep_command(
         f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
         f"Summarize with: vrusim summarize {result.folder}"
     )
+
+
+def _print_plan(plan: dict, as_json: bool) -> None:
+    if as_json:
+        print_json(plan)
+        return
+    out = console()
+    tests = f" × {plan['tests']} catalogue tests" if plan["tests"] else ""
+    out.print(
+        f"{plan['name']}: {plan['variants']:,} variants ({plan['grid_points']:,} grid points{tests} × "
+        f"{plan['samples']:,} samples) in {plan['batches']:,} batches of {plan['batch_size']:,}; seed {plan['seed']}"
+    )
+    for p in plan["parameters"]:
+        drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
+        settings = {k: v for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
+        out.print(f"  {p['name']}: {p['kind']} {settings}{drawn}", markup=False)
+    out.print(f"{plan['variants_checked']} variants built and checked; nothing run or written (--dry-run).")
 
 
 def register(app: typer.Typer) -> None:

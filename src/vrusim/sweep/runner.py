@@ -94,6 +94,33 @@ def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> int:
     return len(rows)
 
 
+def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
+    """Plan, draw and check a sweep without running it: counts and each parameter's drawn range (JSON-ready)."""
+    plan = make_plan(spec, batch_size)
+    design = make_design(plan)
+    checked = preflight(plan, design)
+    parameters = []
+    for p in plan.parameters:
+        column = design[p.path]
+        entry = p.describe()
+        if column.dtype.kind in "fi":
+            entry.update(drawn_min=float(column.min()), drawn_max=float(column.max()))
+        parameters.append(entry)
+    return {
+        "name": plan.name,
+        "base": "catalogue" if plan.tests else str(spec.base_file),
+        "tests": len(plan.tests),
+        "variants": plan.variants,
+        "grid_points": plan.grid_points,
+        "samples": plan.samples,
+        "batch_size": plan.batch_size,
+        "batches": plan.chunks,
+        "seed": plan.seed,
+        "parameters": parameters,
+        "variants_checked": checked,
+    }
+
+
 def _tasks(plan: SweepPlan, design: dict[str, np.ndarray], pending: list[int]):
     digest, types = plan.digest(), design_types(design)
     for index in pending:
@@ -126,7 +153,7 @@ def _open(
             "plan_sha256": plan.digest(),
             "code": code_version(),
         }
-        store.create(manifest, chunk_table(design_rows(design, 0, plan.variants), design_types(design), {}))
+        store.create(manifest, chunk_table(design, design_types(design), {}))
         return plan, design
     manifest = store.manifest()
     plan = plan_from_manifest(manifest)
@@ -138,7 +165,7 @@ def _open(
             "resume without SPEC, or start a new folder"
         )
     design = make_design(plan)
-    if not store.design().equals(chunk_table(design_rows(design, 0, plan.variants), design_types(design), {})):
+    if not store.design().equals(chunk_table(design, design_types(design), {})):
         raise UserInputError(f"{store.folder}: the design drawn now differs from the stored one (library change?)")
     if manifest.get("code", {}).get("source_sha256") != vrusim.source_digest():
         warnings.append("the code changed since the sweep started; resumed batches may differ from the earlier ones")

@@ -45,13 +45,13 @@ def _array(values: Any, kind: pa.DataType) -> pa.Array:
     if kind == pa.float64():
         floats = np.asarray(values, dtype=float)
         return pa.array(floats, mask=np.isnan(floats), type=kind)
-    if isinstance(values, np.ndarray):
+    if isinstance(values, np.ndarray) and values.dtype.kind == "O":
         values = values.tolist()
     return pa.array(values, type=kind)
 
 
-def chunk_table(rows: dict[str, list[Any]], types: dict[str, pa.DataType], results: dict[str, np.ndarray]) -> pa.Table:
-    """Design rows then result columns, typed; result floats with NaN become NULL."""
+def chunk_table(rows: dict[str, Any], types: dict[str, pa.DataType], results: dict[str, np.ndarray]) -> pa.Table:
+    """Design rows (lists or arrays) then result columns, typed; result floats with NaN become NULL."""
     arrays = {name: _array(values, types[name]) for name, values in rows.items()}
     for name, values in results.items():
         arrays[name] = _array(values, RESULT_TYPES.get(name, pa.float64()))
