@@ -45,17 +45,21 @@ def scenario_from_mapping(data: Any, source: str = "scenario") -> Scenario:
         raise UserInputError(describe_validation_error(error, source)) from None
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Load and validate a scenario YAML file."""
-    path = Path(path)
+def read_yaml_file(path: Path, kind: str) -> object:
+    """The parsed YAML document in `path`; a missing, unreadable or malformed file is a UserInputError."""
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise UserInputError(f"{path}: no such scenario file") from None
+        raise UserInputError(f"{path}: no such {kind} file") from None
     except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read scenario file ({error.__class__.__name__}: {error})") from None
+        raise UserInputError(f"{path}: cannot read {kind} file ({error.__class__.__name__}: {error})") from None
     try:
-        data = yaml.safe_load(text)
+        return yaml.safe_load(text)
     except yaml.YAMLError as error:
         raise UserInputError(f"{path}: not valid YAML ({error})") from None
-    return scenario_from_mapping(data, str(path))
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and validate a scenario YAML file."""
+    path = Path(path)
+    return scenario_from_mapping(read_yaml_file(path, "scenario"), str(path))

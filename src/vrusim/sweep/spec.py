@@ -20,11 +20,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
-from vrusim.scenario.loading import field_path
+from vrusim.scenario.loading import field_path, read_yaml_file
 
 MAX_VARIANTS = 100_000_000
 """Most variants one sweep may have."""
@@ -273,14 +272,4 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
 def load_spec(path: str | Path) -> SweepSpec:
     """Read and validate a sweep spec YAML file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise UserInputError(f"{path}: no such sweep spec file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read sweep spec ({error.__class__.__name__}: {error})") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        raise UserInputError(f"{path}: not valid YAML ({error})") from None
-    return spec_from_mapping(data, str(path), path.parent)
+    return spec_from_mapping(read_yaml_file(path, "sweep spec"), str(path), path.parent)
