@@ -1,7 +1,8 @@
 """The `vrusim` command line: run a scenario file, or reproduce the paper's case studies.
 
     vrusim run FILE.yaml [--v2x on|off] [--json] [--trace OUT.csv|OUT.parquet]
-    vrusim paper [--json]
+                         [--plot OUT.png|.svg|.pdf] [--animate OUT.gif|.mp4]
+    vrusim paper [--json] [--figures DIR]
     vrusim list | ncap | compare | sweep | summarize ...   (see `vrusim COMMAND --help`)
     vrusim --version
 
@@ -24,7 +25,10 @@ from rich.table import Table
 
 from vrusim import __version__
 from vrusim.cli_compare import register as register_compare_command
+from vrusim.cli_figures import check_figures_dir, check_run_outputs, write_paper_figures, write_run_outputs
 from vrusim.cli_ncap import register as register_catalogue_commands
+from vrusim.cli_report import register as register_report_command
+from vrusim.cli_report import write_report_option
 from vrusim.cli_summarize import register as register_summarize_command
 from vrusim.cli_support import USER_ERROR_EXIT_CODE, V2XSwitch, print_json, report_user_error, user_errors
 from vrusim.cli_support import console as _console
@@ -154,6 +158,24 @@ def run(
             show_default=False,
         ),
     ] = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            "--plot",
+            metavar="OUT.png|OUT.svg|OUT.pdf",
+            help="Also write one figure: snapshots at the key events above the time series (docs/figures.md).",
+            show_default=False,
+        ),
+    ] = None,
+    animate: Annotated[
+        Path | None,
+        typer.Option(
+            "--animate",
+            metavar="OUT.gif|OUT.mp4",
+            help="Also write an animation of the run, 25 frames per second of simulated time.",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Simulate one scenario file and print its summary."""
     with user_errors():
@@ -167,10 +189,12 @@ def run(
                 check_trace_path(trace)
             except UserInputError as error:
                 raise UserInputError(f"--trace: {error}") from None
+        check_run_outputs(plot, animate)
         scenario = load_scenario(file)
         if v2x is not None:
             scenario = _apply_v2x(scenario, v2x, file)
-        result = simulate([scenario], trace=trace is not None)
+        pictures = plot is not None or animate is not None
+        result = simulate([scenario], trace=trace is not None or pictures)
         row = summary_rows(result)[0]
         rows_written = None
         if trace is not None:
@@ -178,6 +202,7 @@ def run(
                 rows_written = write_trace(result, trace)
             except UserInputError as error:
                 raise UserInputError(f"--trace: {error}") from None
+        written = write_run_outputs(result, plot, animate) if pictures else []
     if as_json:
         print_json(row)
         return
@@ -185,6 +210,8 @@ def run(
     console.print(_summary_table(row))
     if trace is not None:
         console.print(f"Trace written to {escape(str(trace))} ({rows_written} steps).")
+    for line in written:
+        console.print(escape(line))
 
 
 # ----------------------------------------------------------------------------------------------- vrusim paper
@@ -278,18 +305,46 @@ def paper(
     as_json: Annotated[
         bool, typer.Option("--json", help="Print the comparison as one JSON document and nothing else.")
     ] = False,
+    report: Annotated[
+        Path | None,
+        typer.Option(
+            "--report", metavar="OUT.html", help="Also write a self-contained HTML report.", show_default=False
+        ),
+    ] = None,
+    figures: Annotated[
+        Path | None,
+        typer.Option(
+            "--figures",
+            metavar="DIR",
+            help="Also write per case a snapshot figure (rows V2X off / on) and a time-series figure as PNGs.",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Reproduce the paper's three case studies (V2X off and on) and compare with its published results."""
     with user_errors():
         from vrusim.catalog.paper import reproduce
 
+        if report is not None:
+            from vrusim.report import check_output
+
+            check_output(report, "--report")
+        if figures is not None:
+            check_figures_dir(figures)
         result = reproduce()
+        figure_files = write_paper_figures(figures) if figures is not None else []
+        if report is not None:
+            from vrusim.report.paper import paper_report
+
+            write_report_option(report, lambda: paper_report(result), quiet=as_json)
     if as_json:
         print_json(result)
         return
     console = _console()
     console.print(_table_ii(result))
     console.print(_events_table(result))
+    if figure_files:
+        console.print(f"Figures written to {escape(str(figures))}: {', '.join(f.name for f in figure_files)}.")
     counts = match_counts(result)
     all_match = all(ok == total for ok, total in counts.values())
     parts = ", ".join(f"{ok}/{total} {name}" for name, (ok, total) in counts.items())
@@ -301,6 +356,7 @@ register_catalogue_commands(app)
 register_compare_command(app)
 register_sweep_command(app)
 register_summarize_command(app)
+register_report_command(app)
 
 # ----------------------------------------------------------------------------------------------- entry point
 

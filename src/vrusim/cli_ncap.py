@@ -154,6 +154,12 @@ def ncap(
         Path | None, typer.Option("--out", metavar="DIR", help="Write results.csv, results.parquet, scorecard.png.")
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the assessment as one JSON document.")] = False,
+    report: Annotated[
+        Path | None,
+        typer.Option(
+            "--report", metavar="OUT.html", help="Also write a self-contained HTML report.", show_default=False
+        ),
+    ] = None,
 ) -> None:
     """Run the Euro NCAP AEB VRU grid in one batch and assess it the way Euro NCAP would."""
     with user_errors():
@@ -163,6 +169,10 @@ def ncap(
 
         if out is not None:
             prepare_out(out)
+        if report is not None:
+            from vrusim.report import check_output
+
+            check_output(report, "--report")
         try:
             make_planner(planner)
         except UserInputError as error:
@@ -174,6 +184,12 @@ def ncap(
         assessment = assess(result.rows)
         rows = result_rows(result.rows, assessment)
         written = write_outputs(out, rows, assessment) if out is not None else []
+        if report is not None:
+            from vrusim.cli_report import write_report_option
+            from vrusim.report.ncap import ncap_report
+
+            write_report_option(report, lambda: ncap_report(rows, assessment), quiet=True)
+            written.append(report)
     if as_json:
         print_json({"planner": planner, "v2x": v2x.value, "night": night, "assessment": assessment.to_dict()})
         return

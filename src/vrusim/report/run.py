@@ -1,0 +1,104 @@
+"""Report of one scenario file: what ran, the summary (= `vrusim run --json`), charts, figures, parameters."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from vrusim.errors import UserInputError
+from vrusim.report import figures
+from vrusim.report.html import Column, Html, facts, join, table
+from vrusim.report.page import Report, Section
+from vrusim.report.parts import parameters, summary_table, transitions_table
+from vrusim.report.run_charts import run_charts
+from vrusim.scenario.loading import describe_validation_error, load_scenario
+from vrusim.scenario.schema import Scenario
+from vrusim.viz.recording import KEY_EVENT_LABELS, Recording, record
+
+
+def _with_v2x(scenario: Scenario, v2x: bool | None, file: Path) -> Scenario:
+    if v2x is None:
+        return scenario
+    try:
+        return scenario.with_v2x(v2x)
+    except ValidationError as error:
+        switch = "on" if v2x else "off"
+        raise UserInputError(describe_validation_error(error, f"{file} with --v2x {switch}")) from None
+
+
+def what_was_run(scenario: Scenario, row: dict, file: Path | None) -> list[tuple[str, str]]:
+    """Facts about a run: scenario, file, planner, V2X, VRUs, time step and duration."""
+    items = [("scenario", scenario.name)]
+    if scenario.description:
+        items.append(("description", scenario.description))
+    if file is not None:
+        items.append(("file", str(file)))
+    items += [
+        ("planner", row["planner"]),
+        ("V2X", "on" if row["v2x"] else "off"),
+        ("VRUs", ", ".join(vru.type for vru in scenario.vrus)),
+        ("time step", f"{scenario.sim.dt_s:g} s"),
+        ("duration limit", f"{scenario.sim.duration_s:g} s"),
+    ]
+    return items
+
+
+def events_table(element_id: str, recording: Recording) -> Html:
+    """Key events of a run (first perception, brake onset, impact or closest approach) and their times."""
+    rows = [(name, {"event": KEY_EVENT_LABELS[name], "t_s": t}) for name, t in recording.events_s.items()]
+    return table(element_id, [Column("t_s", "t (s)", 3)], rows, row_header=Column("event", "Event"))
+
+
+def figures_of(recordings: list[Recording], prefix: str, what: str) -> list[Html]:
+    """Snapshot and time-series figures of recordings (one row / trace per recording)."""
+    from vrusim.viz.snapshots import snapshot_figure
+    from vrusim.viz.timeseries import timeseries_figure
+
+    return [
+        figures.figure(
+            snapshot_figure(recordings),
+            f"Snapshots of {what}",
+            "Snapshots at key events: road, ego with heading, VRUs at their footprint, sensor sector, "
+            "V2X range, planned paths and travelled trajectories.",
+            f"{prefix}-snapshots",
+        ),
+        figures.figure(
+            timeseries_figure(recordings),
+            f"Time series of {what}",
+            "Speed, acceleration, jerk, planner state, TTC and gap over time, with event markers.",
+            f"{prefix}-timeseries",
+        ),
+    ]
+
+
+def run_report(file: Path, v2x: bool | None = None) -> Report:
+    """Simulate a scenario file (V2X forced on or off when given) with a trace and report it."""
+    scenario = _with_v2x(load_scenario(file), v2x, file)
+    recording = record([scenario])[0]
+    row = recording.summary
+    outcome = "collision" if row["collided"] else "avoided"
+    sections = [
+        Section("what-was-run", "What was run", facts(what_was_run(scenario, row, file), "run-facts")),
+        Section(
+            "summary",
+            "Summary",
+            join(
+                [
+                    summary_table("summary", row),
+                    transitions_table("transitions", row),
+                    events_table("events", recording),
+                ]
+            ),
+        ),
+        Section("charts", "Interactive time series", run_charts(recording, "run")),
+        Section("figures", "Figures", join(figures_of([recording], "run", scenario.name))),
+        Section("parameters", "Parameters", parameters(scenario, file)),
+    ]
+    return Report(
+        kind="run",
+        title=f"vrusim run: {scenario.name}",
+        lead=f"{scenario.name}: {outcome} (V2X {'on' if row['v2x'] else 'off'}, planner {row['planner']}).",
+        sections=sections,
+        results={"source": str(file), "v2x_forced": v2x, "row": row},
+    )
