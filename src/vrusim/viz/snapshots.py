@@ -103,5 +103,6 @@ def _outcome(recording: Recording) -> str:
 
 
 def _title(recordings: Sequence[Recording]) -> str:
+    """The scenario name and description, one line per distinct scenario."""
     scenarios = {r.scenario.name: r.scenario.description for r in recordings}
-    return " / ".join(f"{name}: {text}" if text else name for name, text in scenarios.items())
+    return "\n".join(f"{name}: {text}" if text else name for name, text in scenarios.items())

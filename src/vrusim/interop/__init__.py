@@ -1,0 +1,1 @@
+"""Interoperability: OpenSCENARIO / OpenDRIVE export, CommonRoad export (Gymnasium environments: vrusim.gym)."""
