@@ -3,7 +3,7 @@
     vrusim run FILE.yaml [--v2x on|off] [--json] [--trace OUT.csv|OUT.parquet]
                          [--plot OUT.png|.svg|.pdf] [--animate OUT.gif|.mp4]
     vrusim paper [--json] [--figures DIR]
-    vrusim list | ncap | compare | sweep | summarize ...   (see `vrusim COMMAND --help`)
+    vrusim list | ncap | compare | sweep | summarize | export ...   (see `vrusim COMMAND --help`)
     vrusim --version
 
 Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit
@@ -25,6 +25,7 @@ from rich.table import Table
 
 from vrusim import __version__
 from vrusim.cli_compare import register as register_compare_command
+from vrusim.cli_export import register as register_export_command
 from vrusim.cli_figures import check_figures_dir, check_run_outputs, write_paper_figures, write_run_outputs
 from vrusim.cli_ncap import register as register_catalogue_commands
 from vrusim.cli_report import register as register_report_command
@@ -357,6 +358,7 @@ register_compare_command(app)
 register_sweep_command(app)
 register_summarize_command(app)
 register_report_command(app)
+register_export_command(app)
 
 # ----------------------------------------------------------------------------------------------- entry point
 
