@@ -3,7 +3,7 @@
     vrusim run FILE.yaml [--v2x on|off] [--json] [--trace OUT.csv|OUT.parquet]
                          [--plot OUT.png|.svg|.pdf] [--animate OUT.gif|.mp4]
     vrusim paper [--json] [--figures DIR]
-    vrusim list | ncap | compare | sweep | summarize | export ...   (see `vrusim COMMAND --help`)
+    vrusim list | ncap | compare | sweep | summarize | report | export ...   (see `vrusim COMMAND --help`)
     vrusim --version
 
 Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit

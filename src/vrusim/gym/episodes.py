@@ -1,0 +1,59 @@
+"""B episodes started together on one `BatchStepper`: observation vectors, rewards, done flags, end summaries."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from vrusim.gym.features import observation_vectors
+from vrusim.gym.reward import RewardModel, RewardWeights
+from vrusim.gym.stepper import BatchStepper
+from vrusim.metrics.columns import FLOAT_COLUMNS, SCORE_COLUMNS, result_columns
+from vrusim.sim.batch import BatchParams
+from vrusim.sim.observation import Observation
+
+SUMMARY_COLUMNS = ("collided", *FLOAT_COLUMNS, *SCORE_COLUMNS)
+"""Result columns reported in `info["metrics"]` when an episode ends (`vrusim.metrics.columns`)."""
+
+
+class EpisodeBatch:
+    """Episodes of every variant of `params`, in lock-step from time 0."""
+
+    def __init__(self, params: BatchParams, vru_slots: int, weights: RewardWeights) -> None:
+        self.params = params
+        self.vru_slots = vru_slots
+        self.stepper = BatchStepper(params)
+        self.reward_model = RewardModel(params, weights)
+        self.planner_observation: Observation | None = None
+        self.columns: dict[str, np.ndarray] | None = None
+
+    def start(self) -> np.ndarray:
+        """Restart every episode; the first observation vectors [B, D]."""
+        self.stepper.reset()
+        self.columns = None
+        return self._observe()
+
+    def _observe(self) -> np.ndarray:
+        self.planner_observation = self.stepper.observe()
+        return observation_vectors(self.params, self.planner_observation, self.vru_slots)
+
+    def step(self, command: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Advance under `command` (m/s^2 [B]): (next observations, rewards, terminated, truncated), each [B]."""
+        outcome = self.stepper.advance(command)
+        ended = outcome.terminated | outcome.truncated
+        scores = None
+        if ended.any():
+            self.columns = result_columns(self.stepper.run())
+            scores = (self.columns["safety"] + self.columns["efficiency"] + self.columns["comfort"]) / 3.0
+        reward = self.reward_model.step(outcome, scores)
+        return self._observe(), reward, outcome.terminated, outcome.truncated
+
+    def summary(self, b: int) -> dict[str, Any]:
+        """Result columns of variant b after its episode ended (floats; NaN: absent)."""
+        assert self.columns is not None
+        return {name: _scalar(self.columns[name][b]) for name in SUMMARY_COLUMNS}
+
+
+def _scalar(value: Any) -> Any:
+    return bool(value) if isinstance(value, np.bool_ | bool) else float(value)

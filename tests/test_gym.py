@@ -1,0 +1,168 @@
+"""Gymnasium environments: API conformance, determinism, exact agreement with the batch engine, vector env."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import vrusim.gym
+from conftest import PAPER_DIR
+from vrusim.errors import UserInputError
+from vrusim.gym import VruEnv, VruVectorEnv
+from vrusim.gym.episodes import SUMMARY_COLUMNS
+from vrusim.metrics.columns import result_columns
+from vrusim.planners.registry import make_planner
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.engine import simulate
+
+GENERIC_KWARGS = {"scenario": "CPNA-25/20kph/day"}
+
+
+def _equal(a, b) -> bool:
+    """Bit-equal, NaN equal to NaN."""
+    return bool(a == b) or (isinstance(a, float) and np.isnan(a) and np.isnan(b))
+
+
+@pytest.mark.parametrize("env_id", sorted(vrusim.gym.ENV_IDS))
+def test_check_env_passes_for_every_registered_id(env_id):
+    kwargs = GENERIC_KWARGS if env_id == "vrusim/Scenario-v0" else {}
+    env = gymnasium.make(env_id, **kwargs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # advice only: "use a symmetric, normalised Box" (ours is in m/s^2)
+        check_env(env.unwrapped, skip_render_check=True)
+
+
+def test_scenario_env_takes_yaml_paths_and_paper_keys():
+    env = gymnasium.make("vrusim/Scenario-v0", scenario=str(PAPER_DIR / "escooter_leading.yaml"), v2x=True)
+    assert env.unwrapped.scenario.v2x.enabled
+    assert env.unwrapped.scenario == VruEnv("paper:escooter", v2x=True).scenario
+    with pytest.raises(UserInputError, match="catalogue test id"):
+        VruEnv("CPNA-25/99kph/day")
+
+
+def test_random_episode_ends_with_finite_rewards_inside_the_space():
+    env = VruEnv("paper:motorcyclist", v2x=True)
+    env.action_space.seed(1)
+    obs, _ = env.reset(seed=1)
+    rewards, terminated, truncated, info = [], False, False, {}
+    while not (terminated or truncated):
+        assert env.observation_space.contains(obs)
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        rewards.append(reward)
+    assert env.observation_space.contains(obs)
+    assert np.isfinite(rewards).all() and len(rewards) > 10
+    assert set(info["metrics"]) == set(SUMMARY_COLUMNS)
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(env.action_space.sample())
+
+
+def test_reset_with_a_seed_is_deterministic():
+    def rollout() -> list:
+        env = VruEnv("paper:pedestrian", v2x=True)
+        env.action_space.seed(7)
+        out = [env.reset(seed=7)[0]]
+        for _ in range(200):
+            obs, reward, *_ = env.step(env.action_space.sample())
+            out += [obs, reward]
+        out.append(env.reset(seed=7)[0])
+        return out
+
+    first, second = rollout(), rollout()
+    assert all(np.array_equal(a, b) for a, b in zip(first, second, strict=True))
+    assert np.array_equal(first[0], first[-1])
+
+
+@pytest.mark.parametrize(
+    ("source", "v2x"),
+    [(f"paper:{case}", v2x) for case in ("pedestrian", "escooter", "motorcyclist") for v2x in (False, True)]
+    + [("CPNA-25/20kph/day", False), ("CBLA-50/25kph/day", True)],
+)
+def test_env_driven_by_the_fsm_planner_reproduces_simulate_exactly(source, v2x):
+    env = VruEnv(source, v2x=v2x)
+    env.reset(seed=0)
+    planner = make_planner("fsm")
+    planner.reset(env.params)
+    info, steps = {}, 0
+    while "metrics" not in info:
+        _, _, _, _, info = env.step(planner.act(env.planner_observation))
+        steps += 1
+    run = simulate([env.scenario])
+    expected = result_columns(run)
+    assert steps == run.steps
+    for name in SUMMARY_COLUMNS:
+        assert _equal(info["metrics"][name], expected[name][0].item()), name
+
+
+def _noisy_sensor(scenario: Scenario) -> Scenario:
+    """The scenario with a realistic sensor: latency, missed detections and noise (keyed random draws)."""
+    data = scenario.model_dump()
+    data["sensor"].update(detection_probability=0.8, position_sigma_m=0.3, latency_s=0.1)
+    return Scenario.model_validate(data)
+
+
+def test_vector_env_equals_single_envs_given_the_same_actions():
+    scenarios = [
+        VruEnv("paper:pedestrian").scenario,
+        _noisy_sensor(VruEnv("paper:pedestrian", v2x=True).scenario),
+        VruEnv("paper:escooter", v2x=True).scenario,
+        VruEnv("paper:motorcyclist").scenario,
+    ]
+    vector = VruVectorEnv(scenario=scenarios)
+    singles = [VruEnv(s) for s in scenarios]
+    obs, _ = vector.reset(seed=0)
+    assert np.array_equal(obs, np.stack([env.reset(seed=0)[0] for env in singles]))
+    rng = np.random.default_rng(0)
+    ended = np.zeros(len(singles), dtype=bool)
+    episodes = most_cohorts = 0
+    for _ in range(1500):
+        actions = rng.uniform(-3.0, 2.0, size=(len(singles), 1))
+        obs, rewards, terminated, truncated, infos = vector.step(actions)
+        for i, env in enumerate(singles):
+            if ended[i]:  # next-step autoreset: the vector env reset this one and ignored its action
+                expected, reward, term, trunc, info = (*env.reset()[:1], 0.0, False, False, {})
+            else:
+                expected, reward, term, trunc, info = env.step(actions[i])
+            assert np.array_equal(obs[i], expected) and rewards[i] == reward
+            assert (terminated[i], truncated[i]) == (term, trunc)
+            if "metrics" in info:
+                episodes += 1
+                assert infos["_metrics"][i]
+                assert all(_equal(infos["metrics"][k][i].item(), v) for k, v in info["metrics"].items())
+            ended[i] = term or trunc
+        most_cohorts = max(most_cohorts, vector.cohorts)
+    assert episodes >= 4 and most_cohorts >= 2 and vector.observation_space.contains(obs)
+
+
+def test_actions_are_clipped_to_the_ego_limits_and_must_be_finite():
+    def first_step(action) -> np.ndarray:
+        env = VruEnv("paper:escooter")
+        env.reset()
+        return env.step(action)[0]
+
+    env = VruEnv("paper:escooter")
+    low, high = env.action_space.low, env.action_space.high
+    assert low[0] == -env.scenario.ego.max_decel_mps2 and high[0] == env.scenario.ego.max_accel_mps2
+    assert np.array_equal(first_step([1e3]), first_step(high))
+    assert np.array_equal(first_step([-1e3]), first_step(low))
+    assert not np.array_equal(first_step(low), first_step(high))
+    env.reset()
+    with pytest.raises(ValueError, match="finite"):
+        env.step([np.nan])
+
+
+def test_make_vec_uses_the_batch_engine_with_next_step_autoreset():
+    envs = gymnasium.make_vec(
+        "vrusim/PaperPedestrian-v0", num_envs=3, vectorization_mode="vector_entry_point", v2x=True
+    )
+    assert isinstance(envs, VruVectorEnv)
+    assert envs.metadata["autoreset_mode"] == gymnasium.vector.AutoresetMode.NEXT_STEP
+    obs, _ = envs.reset(seed=0)
+    assert obs.shape == envs.observation_space.shape == (3, envs.single_observation_space.shape[0])
+    assert envs.action_space.shape == (3, 1)
+    envs.step(np.zeros((3, 1)))
+    before, _ = envs.reset(options={"reset_mask": np.array([True, False, False])})
+    assert envs.cohorts == 2 and np.array_equal(before[0], obs[0]) and not np.array_equal(before[1], obs[1])
