@@ -115,13 +115,11 @@ def time_to_collision(
 
 
 @batch_kernel
-def ttc_batch(cx, cy, hx, hy, hl, hw, evx, evy, qx, qy, r, vx, vy):  # pragma: no cover (compiled)
-    """Engine fast path: rectangles [B], circles [B, K] -> TTC [B, K] s (no horizon)."""
+def ttc_batch(cx, cy, hx, hy, hl, hw, evx, evy, qx, qy, r, vx, vy, out):  # pragma: no cover (compiled)
+    """Engine fast path: rectangles [B], circles [B, K] -> out = TTC [B, K] s (no horizon)."""
     B, K = qx.shape
-    out = np.empty((B, K))
     for b in prange(B):
         for k in range(K):
             px, py = to_local(cx[b], cy[b], hx[b], hy[b], qx[b, k], qy[b, k])
             wx, wy = to_local(evx[b], evy[b], hx[b], hy[b], vx[b, k], vy[b, k])
             out[b, k] = ttc_local(px, py, wx, wy, hl[b], hw[b], r[b, k], np.inf)
-    return out
