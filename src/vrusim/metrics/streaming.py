@@ -114,6 +114,27 @@ class RunMetrics:
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
+        self._variant = np.arange(B)
+        """Each row's variant number in the batch `transitions` refer to (rows differ in a `subset`)."""
+
+    def subset(self, index: np.ndarray, params: BatchParams) -> RunMetrics:
+        """The metrics of rows `index` (ascending), to go on with `params` packed for them; `merge` writes
+        them back. Both share one list of transitions, which keeps the variant numbers of this batch."""
+        sub = RunMetrics.__new__(RunMetrics)
+        sub.params = params
+        sub.values = np.ascontiguousarray(self.values[:, index])
+        sub.collided = self.collided[index]
+        sub.first_mode_s = self.first_mode_s[index]
+        sub.transitions = self.transitions
+        sub._variant = self._variant[index]
+        return sub
+
+    def merge(self, sub: RunMetrics) -> None:
+        """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
+        rows = sub._variant
+        self.values[:, rows] = sub.values
+        self.collided[rows] = sub.collided
+        self.first_mode_s[rows] = sub.first_mode_s
 
     def __getattr__(self, name: str) -> np.ndarray:
         index = _I.get(name)
@@ -138,7 +159,7 @@ class RunMetrics:
         changed = active & (old_mode != new_mode)
         if changed.any():
             for b in np.flatnonzero(changed):
-                self.transitions.append((t_s, int(b), int(old_mode[b]), int(new_mode[b])))
+                self.transitions.append((t_s, int(self._variant[b]), int(old_mode[b]), int(new_mode[b])))
                 if np.isnan(self.first_mode_s[b, new_mode[b]]):
                     self.first_mode_s[b, new_mode[b]] = t_s
 
