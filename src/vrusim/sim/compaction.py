@@ -59,5 +59,8 @@ def take_vrus(vrus: VruState, index: np.ndarray) -> VruState:
 
 
 def compactable(*parts: object) -> bool:
-    """Whether every part can drop variants (has a `compact(index)` method)."""
-    return all(callable(getattr(part, "compact", None)) for part in parts)
+    """Whether every part can drop variants: its own class defines `compact(index)`.
+
+    An inherited `compact` does not count: a subclass may keep per-variant state its base does not know.
+    """
+    return all(callable(vars(type(part)).get("compact")) for part in parts)

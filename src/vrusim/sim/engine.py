@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from vrusim.errors import UserInputError
 from vrusim.metrics.streaming import RunMetrics
@@ -163,7 +164,6 @@ def simulate(
             contact,
         )
         clearance, outline_x, outline_y = contact
-        ego_vx, ego_vy = ego.speed_mps * ego.heading_x, ego.speed_mps * ego.heading_y
         ttc = scratch.ttc
         ttc_batch(
             params.size,
@@ -173,8 +173,7 @@ def simulate(
             ego.heading_y,
             params.half_length_m,
             params.half_width_m,
-            ego_vx,
-            ego_vy,
+            ego.speed_mps,
             vrus.x_m,
             vrus.y_m,
             params.vru_radius_m,
@@ -185,13 +184,15 @@ def simulate(
         work.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus)
         if recorder is not None:
             recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
-        active = (
-            active
-            & ~(params.stop_on_collision & work.collided)
-            & ~(params.stop_at_route_end & (work.travel_time_s >= 0.0))
-            & (t_next < params.duration_s - 1e-9)
+        running = _update_active(
+            t_next,
+            active,
+            params.stop_on_collision,
+            work.collided,
+            params.stop_at_route_end,
+            work.travel_time_s,
+            params.duration_s,
         )
-        running = np.count_nonzero(active)
         if running == 0:
             break
         if can_compact and running < COMPACT_BELOW * active.size:
@@ -206,6 +207,21 @@ def simulate(
     if work is not metrics:
         metrics.merge(work)
     return BatchRun(batch, metrics, mode_names, recorder.finish() if recorder else None, step + 1)
+
+
+@njit(cache=True, _nrt=False)
+def _update_active(
+    t_next, active, stop_on_collision, collided, stop_at_route_end, travel_time, duration
+):  # pragma: no cover (compiled)
+    """Stop the variants that collided (if `stop_on_collision`), completed their route (if
+    `stop_at_route_end`) or reached their duration; return how many still run (serial: a reduction)."""
+    running = 0
+    for b in range(active.shape[0]):
+        if active[b]:
+            stop = (stop_on_collision[b] and collided[b]) or (stop_at_route_end[b] and travel_time[b] >= 0.0)
+            active[b] = not stop and t_next < duration[b] - 1e-9
+        running += 1 if active[b] else 0
+    return running
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
