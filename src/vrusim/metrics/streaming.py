@@ -6,6 +6,8 @@ readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/met
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import prange
 
@@ -156,12 +158,14 @@ class RunMetrics:
 
     def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
         """Every planner state transition, with its time."""
-        changed = active & (old_mode != new_mode)
-        if changed.any():
-            for b in np.flatnonzero(changed):
-                self.transitions.append((t_s, int(self._variant[b]), int(old_mode[b]), int(new_mode[b])))
-                if np.isnan(self.first_mode_s[b, new_mode[b]]):
-                    self.first_mode_s[b, new_mode[b]] = t_s
+        rows = np.flatnonzero(active & (old_mode != new_mode))
+        if rows.size:
+            first = self.first_mode_s
+            olds, news = (np.asarray(mode)[rows].astype(np.int64).tolist() for mode in (old_mode, new_mode))
+            for b, variant, old, new in zip(rows.tolist(), self._variant[rows].tolist(), olds, news, strict=True):
+                self.transitions.append((t_s, variant, old, new))
+                if math.isnan(first[b, new]):
+                    first[b, new] = t_s
 
     def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""
