@@ -96,7 +96,8 @@ def simulate(
     """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace.
 
     Without a trace, variants that have stopped are dropped from the working set as the run goes on (if the
-    planner, channel and sensor model all have a `compact` method); their results are final by then.
+    planner, channel and sensor model all have a `compact` method); their results are final by then. A
+    planner or channel passed in then ends the run holding only the variants still running at its end.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
     params = batch
