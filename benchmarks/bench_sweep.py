@@ -32,9 +32,10 @@ SPEC = ROOT / "sweeps" / "pedestrian_monte_carlo.yaml"
 
 def _tree_rss(process: psutil.Process) -> int:
     total = 0
-    for member in [process, *process.children(recursive=True)]:
-        with contextlib.suppress(psutil.Error):  # a worker that just ended
-            total += member.memory_info().rss
+    with contextlib.suppress(psutil.Error):  # the command or a worker that just ended
+        for member in [process, *process.children(recursive=True)]:
+            with contextlib.suppress(psutil.Error):
+                total += member.memory_info().rss
     return total
 
 

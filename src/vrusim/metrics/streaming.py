@@ -6,6 +6,8 @@ readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/met
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import prange
 
@@ -114,6 +116,27 @@ class RunMetrics:
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
+        self._variant = np.arange(B)
+        """Each row's variant number in the batch `transitions` refer to (rows differ in a `subset`)."""
+
+    def subset(self, index: np.ndarray, params: BatchParams) -> RunMetrics:
+        """The metrics of rows `index` (ascending), to go on with `params` packed for them; `merge` writes
+        them back. Both share one list of transitions, which keeps the variant numbers of this batch."""
+        sub = RunMetrics.__new__(RunMetrics)
+        sub.params = params
+        sub.values = np.ascontiguousarray(self.values[:, index])
+        sub.collided = self.collided[index]
+        sub.first_mode_s = self.first_mode_s[index]
+        sub.transitions = self.transitions
+        sub._variant = self._variant[index]
+        return sub
+
+    def merge(self, sub: RunMetrics) -> None:
+        """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
+        rows = sub._variant
+        self.values[:, rows] = sub.values
+        self.collided[rows] = sub.collided
+        self.first_mode_s[rows] = sub.first_mode_s
 
     def __getattr__(self, name: str) -> np.ndarray:
         index = _I.get(name)
@@ -135,12 +158,14 @@ class RunMetrics:
 
     def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
         """Every planner state transition, with its time."""
-        changed = active & (old_mode != new_mode)
-        if changed.any():
-            for b in np.flatnonzero(changed):
-                self.transitions.append((t_s, int(b), int(old_mode[b]), int(new_mode[b])))
-                if np.isnan(self.first_mode_s[b, new_mode[b]]):
-                    self.first_mode_s[b, new_mode[b]] = t_s
+        rows = np.flatnonzero(active & (old_mode != new_mode))
+        if rows.size:
+            first = self.first_mode_s
+            olds, news = (np.asarray(mode)[rows].astype(np.int64).tolist() for mode in (old_mode, new_mode))
+            for b, variant, old, new in zip(rows.tolist(), self._variant[rows].tolist(), olds, news, strict=True):
+                self.transitions.append((t_s, variant, old, new))
+                if math.isnan(first[b, new]):
+                    first[b, new] = t_s
 
     def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus) -> None:
         """Fold one step (ending at t_s) into the summaries of the active variants."""

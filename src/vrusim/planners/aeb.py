@@ -24,6 +24,7 @@ from vrusim.planners.conflict import new_tracks, update_track
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
 
@@ -100,6 +101,10 @@ class AebPlanner:
         self.ttc_s = np.full(params.size, np.inf)
         """The smallest route TTC of the last step, s (inf: no threat)."""
         self.tracks: np.ndarray | None = None
+
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        take_attributes(self, ("table", "half_length", "rear_to_centre", "mode", "warning", "ttc_s", "tracks"), index)
 
     def act(self, obs: Observation) -> np.ndarray:
         """Stage each variant from its smallest TTC; return the acceleration command."""

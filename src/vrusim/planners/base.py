@@ -37,6 +37,10 @@ class HoldSpeedPlanner:
         """Allocate the mode array."""
         self.mode = np.zeros(params.size, dtype=np.int8)
 
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        self.mode = self.mode[index]
+
     def act(self, observation: Observation) -> np.ndarray:
         """Zero acceleration for every variant."""
         return np.zeros(observation.ego_speed_mps.shape)

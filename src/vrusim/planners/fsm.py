@@ -30,6 +30,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
 
@@ -76,6 +77,10 @@ class FsmPlanner:
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.tracks: np.ndarray | None = None
         self.station: np.ndarray | None = None
+
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        take_attributes(self, ("table", "zone_length", "mode", "tracks", "station"), index)
 
     def act(self, obs: Observation) -> np.ndarray:
         """Update each variant's state from the nearest threatening VRU; return its acceleration command."""

@@ -32,6 +32,7 @@ from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.prediction import CONSTANT_VELOCITY, PATH, occupancy_bounds, path_station_of, plan_start
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
 
@@ -125,6 +126,12 @@ class PredictivePlanner:
         self.tracks: np.ndarray | None = None
         self.station: np.ndarray | None = None
 
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones); VRU paths are shared."""
+        names = ("table", "kind", "vru_path_offset", "ego_length", "rear_to_centre", "mode", "command")
+        names += ("required_decel_mps2", "plan", "yielding", "path_station", "tracks", "station")
+        take_attributes(self, names, index)
+
     def act(self, obs: Observation) -> np.ndarray:
         """Plan each variant from the predicted occupancy of its corridor; return the acceleration command."""
         if self.tracks is None:
@@ -159,6 +166,7 @@ class PredictivePlanner:
             self.required_decel_mps2,
             self.plan,
             self.command,
+            np.empty((self.mode.shape[0], 5)),
         )
         return self.command.copy()
 
@@ -193,6 +201,7 @@ def _predictive_step(
     required,
     last_plan,
     command,
+    scratch,
 ):  # pragma: no cover (compiled)
     B, K = detected.shape
     for b in prange(B):
@@ -201,7 +210,7 @@ def _predictive_step(
         # how far along its route the ego can get within the planning window (for the reachability screen)
         reach_ego = max(v, cruise_speed[b]) * (horizon + p[b, _FOLLOW_GAP] + p[b, _MARGIN_T]) + ego_length[b]
         plan, plan_now, ttc, binding_lead, threat = np.inf, np.inf, np.inf, False, False
-        bounds = np.empty(5)
+        bounds = scratch[b]  # [5], filled by occupancy_bounds
         # the new plan starts once the command has ramped down to the last plan (jerk-aware planning)
         comfort = p[b, _COMFORT_DECEL]
         ramp = p[b, _COMFORT_JERK] if last_plan[b] >= -comfort else p[b, _EMERGENCY_JERK]

@@ -281,7 +281,10 @@ class PathTable:
                 table[row, len(sample) :, 2:4] = direction
                 table[row, len(sample) :, 4] = 0.0
         self.width = width
-        self._counts = np.array([len(sample) for sample in samples], dtype=np.int64)
+        counts = np.array([len(sample) for sample in samples], dtype=np.int64)
+        # index of each row's last sample, at every flat index of the row: kernels read it at a row's offset
+        # without dividing the offset by the width
+        self._last = np.repeat(counts - 1, width)
         self._x = np.ascontiguousarray(table[:, :, 0]).ravel()
         self._y = np.ascontiguousarray(table[:, :, 1]).ravel()
         self._kappa = np.ascontiguousarray(table[:, :, 4]).ravel()
@@ -293,12 +296,15 @@ class PathTable:
 
     @property
     def arrays(self) -> tuple:
-        """(x, y, segment unit tangents, curvature, samples per row, 1 / spacing, width) for compiled kernels.
+        """(x, y, segment unit tangents, curvature, last sample index, 1 / spacing, width) for compiled kernels.
+
+        Every array but the tangents [rows x width, 2] is flat [rows x width]: entry `offset + j` is sample j of
+        the row starting at `offset`; the last sample index is the row's, repeated along it.
 
         Beyond a path's last sample, evaluation extends its own last segment (never the padding), so a path
         gives bit-identical results whatever else shares the table.
         """
-        return self._x, self._y, self._tangent, self._kappa, self._counts, 1.0 / self.spacing_m, self.width
+        return self._x, self._y, self._tangent, self._kappa, self._last, 1.0 / self.spacing_m, self.width
 
     def locate(self, row_offset: np.ndarray, station_m: np.ndarray):
         """Return (x, y, unit tangent x, unit tangent y, curvature) at `station_m` of each path.
@@ -316,9 +322,9 @@ def locate_point(path, offset, station):  # pragma: no cover
 
     `path` is `PathTable.arrays`; `offset` is the path's row times the table width.
     """
-    xs, ys, tangents, kappas, counts, inv_spacing, width = path
+    xs, ys, tangents, kappas, last, inv_spacing, _ = path
     scaled = station * inv_spacing
-    j = min(max(math.floor(scaled), 0), counts[offset // width] - 2)
+    j = min(max(math.floor(scaled), 0), last[offset] - 1)
     flat = offset + j
     frac = scaled - j
     x0, y0 = xs[flat], ys[flat]
@@ -359,8 +365,8 @@ def nearest_station(path, offset, px, py):  # pragma: no cover (compiled)
     sample; the nearest wins. Nothing moves backwards along a path, so the part before its start is never a
     candidate. Refine with `project_point`.
     """
-    xs, ys, tangents, _, counts, inv_spacing, width = path
-    last = counts[offset // width] - 1
+    xs, ys, tangents, _, lasts, inv_spacing, _ = path
+    last = lasts[offset]
     best, best_s = np.inf, 0.0
     for j in range(last + 1):
         dx, dy = xs[offset + j] - px, ys[offset + j] - py

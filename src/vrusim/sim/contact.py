@@ -183,12 +183,10 @@ def lateral_impact_fraction(outline_y: ArrayLike, half_width: ArrayLike) -> Floa
 
 
 @batch_kernel
-def clearance_batch(cx, cy, hx, hy, hl, hw, px, py, r):  # pragma: no cover (compiled)
-    """Engine fast path: rectangles [B], circles [B, K] -> (clearance, outline x, outline y) [B, K]."""
+def clearance_batch(cx, cy, hx, hy, hl, hw, px, py, r, out):  # pragma: no cover (compiled)
+    """Engine fast path: rectangles [B], circles [B, K] -> out [3, B, K] = clearance, outline x, outline y."""
     B, K = px.shape
-    out = np.empty((3, B, K))
     for b in prange(B):
         for k in range(K):
             lx, ly = to_local(cx[b], cy[b], hx[b], hy[b], px[b, k], py[b, k])
             out[0, b, k], out[1, b, k], out[2, b, k] = clearance_local(lx, ly, hl[b], hw[b], r[b, k])
-    return out[0], out[1], out[2]

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from vrusim.errors import UserInputError
 from vrusim.metrics.streaming import RunMetrics
@@ -22,12 +23,13 @@ from vrusim.planners.base import Planner
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.batch import BatchParams, pack
+from vrusim.sim.compaction import compactable, take_ego, take_params, take_vrus
 from vrusim.sim.contact import clearance_batch
 from vrusim.sim.ego_dynamics import advance_egos
 from vrusim.sim.observation import Observation, fuse
 from vrusim.sim.sensing import sense
 from vrusim.sim.sensor_model import make_sensor_model
-from vrusim.sim.state import initial_ego, initial_vrus
+from vrusim.sim.state import EgoState, initial_ego, initial_vrus
 from vrusim.sim.v2x import Channel, make_channel, rsu_broadcast
 from vrusim.sim.vru_motion import advance_vrus
 
@@ -50,14 +52,55 @@ def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
     return make_planner(names.pop())
 
 
+COMPACT_BELOW = 0.8
+"""Drop stopped variants from the working set once fewer than this fraction of it are still running."""
+
+
+@dataclass
+class _Scratch:
+    """Per working set: read-only views of the state the planner observes, and reused step buffers."""
+
+    ego_view: list[np.ndarray]
+    route_offset: np.ndarray
+    radius: np.ndarray
+    fresh: np.ndarray
+    """Age of an ideal sensor's reports, s (0)."""
+    contact: np.ndarray
+    """Clearance, outline x, outline y [3, B, K]."""
+    ttc: np.ndarray
+
+
+def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
+    # kernels update the state arrays in place, views follow
+    ego_view = [
+        _read_only(a)
+        for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
+    ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
+    shape = params.vru_valid.shape
+    return _Scratch(
+        ego_view,
+        _read_only(params.route_offset),
+        _read_only(params.vru_radius_m),
+        np.zeros(params.size),
+        np.empty((3, *shape)),
+        np.empty(shape),
+    )
+
+
 def simulate(
     scenarios: Sequence[Scenario] | BatchParams,
     planner: Planner | None = None,
     channel: Channel | None = None,
     trace: bool = False,
 ) -> BatchRun:
-    """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace."""
-    params = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace.
+
+    Without a trace, variants that have stopped are dropped from the working set as the run goes on (if the
+    planner, channel and sensor model all have a `compact` method); their results are final by then. A
+    planner or channel passed in then ends the run holding only the variants still running at its end.
+    """
+    batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    params = batch
     planner_name = params.scenarios[0].planner.name if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(params.scenarios)
     channel = channel if channel is not None else make_channel(params)
@@ -67,18 +110,14 @@ def simulate(
     sensor.reset(params)
     mode_names = tuple(getattr(planner, "mode_names", ("running",)))
     metrics = RunMetrics(params, len(mode_names))
+    work = metrics  # the metrics of the working set
     ego = initial_ego(params)
     vrus = initial_vrus(params)
     active = np.ones(params.size, dtype=bool)
     dt = params.dt_s
     recorder = _TraceRecorder() if trace else None
-    # read-only views of the state the planner observes (kernels update the arrays in place, views follow)
-    ego_view = [
-        _read_only(a)
-        for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
-    ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
-    route_offset, radius = _read_only(params.route_offset), _read_only(params.vru_radius_m)
-    fresh = np.zeros(params.size)  # age of an ideal sensor's reports, s
+    can_compact = recorder is None and compactable(planner, channel, sensor)
+    scratch = _scratch(params, ego)
     step = 0
     for step in range(params.n_steps):
         t = step * dt
@@ -91,25 +130,28 @@ def simulate(
         )
         sensor_age = sensor.age_s(step, dt)
         detected, source, estimate = fuse(
-            sensed, sensed_kinematics, messages, fresh if sensor_age is None else sensor_age
+            sensed, sensed_kinematics, messages, scratch.fresh if sensor_age is None else sensor_age
         )
-        metrics.record_detection(t, active, sensed, messages.received)
-        observation = Observation(t, dt, *ego_view, params.routes, route_offset, detected, source, estimate, radius)
+        work.record_detection(t, active, sensed, messages.received)
+        observation = Observation(
+            t, dt, *scratch.ego_view, params.routes, scratch.route_offset, detected, source, estimate, scratch.radius
+        )
         old_mode = getattr(planner, "mode", None)
         old_mode = None if old_mode is None else old_mode.copy()
         command = _checked_command(planner.act(observation), params.size, planner_name)
         if old_mode is not None:
-            metrics.record_modes(t, active, old_mode, planner.mode)
+            work.record_modes(t, active, old_mode, planner.mode)
         warning = getattr(planner, "warning", None)
         if warning is not None:
-            metrics.record_warning(t, active, warning)
+            work.record_warning(t, active, warning)
         moving_before = ego.speed_mps > 0.0
         advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps, ego.station_m)
         advance_egos(params, ego, command)
         t_next = (step + 1) * dt
 
         centre_x, centre_y = ego.centre_x_m, ego.centre_y_m
-        clearance, outline_x, outline_y = clearance_batch(
+        contact = scratch.contact
+        clearance_batch(
             params.size,
             centre_x,
             centre_y,
@@ -120,9 +162,11 @@ def simulate(
             vrus.x_m,
             vrus.y_m,
             params.vru_radius_m,
+            contact,
         )
-        ego_vx, ego_vy = ego.speed_mps * ego.heading_x, ego.speed_mps * ego.heading_y
-        ttc = ttc_batch(
+        clearance, outline_x, outline_y = contact
+        ttc = scratch.ttc
+        ttc_batch(
             params.size,
             centre_x,
             centre_y,
@@ -130,26 +174,55 @@ def simulate(
             ego.heading_y,
             params.half_length_m,
             params.half_width_m,
-            ego_vx,
-            ego_vy,
+            ego.speed_mps,
             vrus.x_m,
             vrus.y_m,
             params.vru_radius_m,
             vrus.vx_mps,
             vrus.vy_mps,
+            ttc,
         )
-        metrics.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus)
+        work.record_step(t_next, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus)
         if recorder is not None:
             recorder.add(t_next, ego, centre_x, centre_y, vrus, detected, source, planner, clearance, ttc, command)
-        active = (
-            active
-            & ~(params.stop_on_collision & metrics.collided)
-            & ~(params.stop_at_route_end & (metrics.travel_time_s >= 0.0))
-            & (t_next < params.duration_s - 1e-9)
+        running = _update_active(
+            t_next,
+            active,
+            params.stop_on_collision,
+            work.collided,
+            params.stop_at_route_end,
+            work.travel_time_s,
+            params.duration_s,
         )
-        if not active.any():
+        if running == 0:
             break
-    return BatchRun(params, metrics, mode_names, recorder.finish() if recorder else None, step + 1)
+        if can_compact and running < COMPACT_BELOW * active.size:
+            keep = np.flatnonzero(active)
+            params, ego, vrus = take_params(params, keep), take_ego(ego, keep), take_vrus(vrus, keep)
+            for part in (planner, channel, sensor):
+                part.compact(keep)
+            metrics.merge(work)
+            work = work.subset(keep, params)
+            active = np.ones(keep.size, dtype=bool)
+            scratch = _scratch(params, ego)
+    if work is not metrics:
+        metrics.merge(work)
+    return BatchRun(batch, metrics, mode_names, recorder.finish() if recorder else None, step + 1)
+
+
+@njit(cache=True, _nrt=False)
+def _update_active(
+    t_next, active, stop_on_collision, collided, stop_at_route_end, travel_time, duration
+):  # pragma: no cover (compiled)
+    """Stop the variants that collided (if `stop_on_collision`), completed their route (if
+    `stop_at_route_end`) or reached their duration; return how many still run (serial: a reduction)."""
+    running = 0
+    for b in range(active.shape[0]):
+        if active[b]:
+            stop = (stop_on_collision[b] and collided[b]) or (stop_at_route_end[b] and travel_time[b] >= 0.0)
+            active[b] = not stop and t_next < duration[b] - 1e-9
+        running += 1 if active[b] else 0
+    return running
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:

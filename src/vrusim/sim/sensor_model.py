@@ -24,6 +24,7 @@ from numba import prange
 
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
 
@@ -50,6 +51,9 @@ class IdealSensor:
 
     def reset(self, params: BatchParams) -> None:
         """Nothing to set up."""
+
+    def compact(self, index: np.ndarray) -> None:
+        """Nothing kept per variant."""
 
     def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every visible VRU, exactly as it is."""
@@ -109,6 +113,13 @@ class RealisticSensor:
         self.history = np.zeros((depth, 6, *shape))
         self.held = np.zeros(shape, dtype=bool)
         self.held_estimate = np.zeros((6, *shape))
+
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        take_attributes(self, ("seed", "latency", "period", "probability", "position_sigma_m"), index)
+        take_attributes(self, ("velocity_sigma_mps", "held"), index)
+        take_attributes(self, ("seen", "held_estimate"), index, axis=1)
+        take_attributes(self, ("history",), index, axis=2)
 
     def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Store this step's truth; report the frame measured L steps ago if one was, else hold the last."""

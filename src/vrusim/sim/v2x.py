@@ -49,6 +49,9 @@ class IdealChannel:
     def reset(self, params: BatchParams) -> None:
         """Nothing to set up."""
 
+    def compact(self, index: np.ndarray) -> None:
+        """Nothing kept per variant."""
+
     def deliver(self, t_s: float, sent: V2xMessages) -> V2xMessages:
         """Everything sent arrives now."""
         return sent

@@ -20,8 +20,15 @@ from vrusim.scenario.v2x_channel import (
 )
 from vrusim.sim import v2x_kernels as kern
 from vrusim.sim.batch import BatchParams
+from vrusim.sim.compaction import take_attributes
 from vrusim.sim.v2x import V2xMessages
 
+_PER_VARIANT = (
+    "seed", "mode", "loss_model", "cfg", "outage_start", "outage_end", "outage_count", "last_gen", "due", "force",
+    "ref", "was_covered", "link_state", "buf_gen", "buf_due", "buf_kin", "buf_head", "buf_count", "message_step",
+    "track_kin", "generated", "delivered",
+)  # fmt: skip
+"""RealisticChannel's arrays, all with the variant on the first axis."""
 _MODES = {"every_step": kern.MODE_EVERY_STEP, "periodic": kern.MODE_PERIODIC, "etsi_vam": kern.MODE_ETSI_VAM}
 
 
@@ -107,6 +114,10 @@ class RealisticChannel:
         self.track_kin = np.zeros((B, K, 6))
         self.generated = np.zeros((B, K), dtype=np.int64)
         self.delivered = np.zeros((B, K), dtype=np.int64)
+
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        take_attributes(self, _PER_VARIANT, index)
 
     def deliver(self, t_s: float, sent: V2xMessages) -> V2xMessages:
         """What each ego knows at `t_s`: its VRU tracks from the messages delivered so far, predicted to now."""

@@ -100,6 +100,14 @@ def _in_outage(t, b, outage_start, outage_end, outage_count):  # pragma: no cove
 
 
 @njit(cache=True, inline="always")
+def _slot(head, j, capacity):  # pragma: no cover (compiled)
+    """Ring-buffer slot j places after `head` (head in [0, capacity), j in [0, capacity]): (head + j) % capacity
+    without a division."""
+    i = head + j
+    return i - capacity if i >= capacity else i
+
+
+@njit(cache=True, inline="always")
 def _push(
     n, due_step, b, k, seed, cfg, kin, buf_gen, buf_due, buf_kin, buf_head, buf_count
 ):  # pragma: no cover (compiled)
@@ -107,9 +115,9 @@ def _push(
     capacity = buf_gen.shape[2]
     count = buf_count[b, k]
     if count == capacity:  # cannot happen with the capacity chosen by the channel; drop the oldest
-        buf_head[b, k] = (buf_head[b, k] + 1) % capacity
+        buf_head[b, k] = _slot(buf_head[b, k], 1, capacity)
         count -= 1
-    i = (buf_head[b, k] + count) % capacity
+    i = _slot(buf_head[b, k], count, capacity)
     buf_gen[b, k, i] = n
     buf_due[b, k, i] = due_step
     for row in range(6):
@@ -134,14 +142,14 @@ def _take_newest_due(
     head, count = buf_head[b, k], buf_count[b, k]
     newest = -1
     for j in range(count):
-        if buf_due[b, k, (head + j) % capacity] <= n:
+        if buf_due[b, k, _slot(head, j, capacity)] <= n:
             newest = j
     if newest >= 0:
-        i = (head + newest) % capacity
+        i = _slot(head, newest, capacity)
         track_gen[b, k] = buf_gen[b, k, i]
         for row in range(6):
             track_kin[b, k, row] = buf_kin[b, k, i, row]
-        buf_head[b, k] = (head + newest + 1) % capacity
+        buf_head[b, k] = _slot(head, newest + 1, capacity)
         buf_count[b, k] = count - newest - 1
         delivered[b, k] += 1
 
