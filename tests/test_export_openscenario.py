@@ -65,6 +65,23 @@ def test_every_exported_file_passes_the_asam_quality_checkers(exported):
     print(f"ASAM QC: {len(files)} files, 0 issues, {elapsed:.1f} s")
 
 
+def test_the_checkers_find_issues_in_a_broken_export(exported, tmp_path):
+    """The zero-issue result above means something: a broken .xosc and .xodr each get issues."""
+    folder, by_stem = exported
+    stem = next(iter(by_stem))
+    xosc = etree.parse(str(folder / f"{stem}.xosc"))
+    first, second = list(xosc.getroot().iter("ScenarioObject"))[:2]
+    second.set("name", first.get("name"))  # two entities with one name
+    xosc.write(str(tmp_path / "broken.xosc"))
+    xodr = etree.parse(str(folder / f"{stem}.xodr"))
+    lane = next(xodr.getroot().iter("lane"))
+    lane.set("type", "no-such-lane-type")  # not in the schema's enumeration
+    xodr.write(str(tmp_path / "broken.xodr"))
+    for name in ("broken.xosc", "broken.xodr"):
+        issues, _ = check_file(tmp_path / name)
+        assert issues, name
+
+
 # ----------------------------------------------------------------------------------------------- round trip
 
 

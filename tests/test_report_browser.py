@@ -3,7 +3,7 @@ download): no console or page errors, every image and plot drawn with a size, th
 and the numbers in the tables equal the results files (run --json, paper --json, results.parquet, the sweep's
 Parquet chunks), each parsed here on its own.
 
-Chromium missing is a failure naming the fix (`scripts/install-test-system-deps.sh`), not a skip, unless
+Chromium missing is a failure naming the fix (`scripts/install-test-deps.sh`), not a skip, unless
 VRUSIM_SKIP_BROWSER_TESTS=1 opts out.
 """
 
@@ -73,7 +73,7 @@ def browser():
         pytest.skip(f"browser tests switched off by {OPT_OUT}=1")
     if not CHROMIUM.is_file():
         pytest.fail(
-            f"Chromium not found at {CHROMIUM}: install it with `bash scripts/install-test-system-deps.sh` "
+            f"Chromium not found at {CHROMIUM}: install it with `bash scripts/install-test-deps.sh` "
             f"(Debian's chromium package), or set {OPT_OUT}=1 to skip the browser tests",
             pytrace=False,
         )

@@ -18,7 +18,7 @@ from vrusim.errors import UserInputError
 from vrusim.metrics.streaming import FIELDS
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim import engine, kernels
+from vrusim.sim import kernels, stepper
 from vrusim.sim.batch import pack
 from vrusim.sim.engine import simulate
 from vrusim.sim.observation import SOURCE_SENSOR
@@ -80,7 +80,7 @@ def test_paper_runs_are_bit_identical_through_the_realistic_code_path(monkeypatc
     scenarios = [scenario for _, _, scenario in paper_scenarios()]
     assert isinstance(make_sensor_model(pack(scenarios)), IdealSensor)
     ideal = simulate(scenarios)
-    monkeypatch.setattr(engine, "make_sensor_model", lambda params: RealisticSensor())
+    monkeypatch.setattr(stepper, "make_sensor_model", lambda params: RealisticSensor())
     forced = simulate(scenarios)
     assert summary_rows(forced) == summary_rows(ideal)
     assert np.array_equal(forced.metrics.values, ideal.metrics.values, equal_nan=True)

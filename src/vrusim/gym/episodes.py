@@ -1,4 +1,4 @@
-"""B episodes started together on one `BatchStepper`: observation vectors, rewards, done flags, end summaries."""
+"""B episodes started together on one `EpisodeStepper`: observation vectors, rewards, done flags, end summaries."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 
 from vrusim.gym.features import observation_vectors
 from vrusim.gym.reward import RewardModel, RewardWeights
-from vrusim.gym.stepper import BatchStepper
+from vrusim.gym.stepper import EpisodeStepper
 from vrusim.metrics.columns import FLOAT_COLUMNS, SCORE_COLUMNS, result_columns
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.observation import Observation
@@ -23,7 +23,7 @@ class EpisodeBatch:
     def __init__(self, params: BatchParams, vru_slots: int, weights: RewardWeights) -> None:
         self.params = params
         self.vru_slots = vru_slots
-        self.stepper = BatchStepper(params)
+        self.stepper = EpisodeStepper(params)
         self.reward_model = RewardModel(params, weights)
         self.planner_observation: Observation | None = None
         self.columns: dict[str, np.ndarray] | None = None

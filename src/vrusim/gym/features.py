@@ -93,12 +93,16 @@ def observation_vectors(params: BatchParams, observation: Observation, vru_slots
     dvx, dvy = o.vru_vx_mps - ego_vx[:, None], o.vru_vy_mps - ego_vy[:, None]
     centre_x, centre_y = o.ego_x_m + p.rear_to_centre_m * hx, o.ego_y_m + p.rear_to_centre_m * hy
     estimate_x, estimate_y = np.ascontiguousarray(o.vru_x_m), np.ascontiguousarray(o.vru_y_m)
-    clearance, _, _ = clearance_batch(
-        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, estimate_x, estimate_y, p.vru_radius_m
-    )
-    ttc = ttc_batch(
-        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, ego_vx, ego_vy, estimate_x, estimate_y,
-        p.vru_radius_m, np.ascontiguousarray(o.vru_vx_mps), np.ascontiguousarray(o.vru_vy_mps),
+    contact, ttc = np.empty((3, *estimate_x.shape)), np.empty(estimate_x.shape)
+    clearance_batch(
+        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, estimate_x, estimate_y, p.vru_radius_m,
+        contact,
+    )  # fmt: skip
+    clearance = contact[0]
+    ttc_batch(
+        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, np.ascontiguousarray(o.ego_speed_mps),
+        estimate_x, estimate_y, p.vru_radius_m, np.ascontiguousarray(o.vru_vx_mps), np.ascontiguousarray(o.vru_vy_mps),
+        ttc,
     )  # fmt: skip
     seen = o.detected
     columns = (
