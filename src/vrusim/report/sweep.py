@@ -171,16 +171,14 @@ def sweep_report(folder: Path, bins: int = 10) -> Report:
         ),
     ]
     for index, (name, summary) in enumerate(by.items()):
-        chart = probability_chart(f"chart-by-{index}", summary)
-        png = figures.figure(
+        # the interactive chart where there is one, else the static sensitivity figure (not both: same plot)
+        plot = probability_chart(f"chart-by-{index}", summary) or figures.figure(
             sensitivity_figure(summary, name),
             f"Sensitivity to {name}",
             f"P(collision) against {name} with the Wilson 95 % band.",
             f"figure-by-{index}",
         )
-        sections.append(
-            Section(f"by-{index}-section", f"By {name}", join([group_table(f"by-{index}", summary), chart, png]))
-        )
+        sections.append(Section(f"by-{index}-section", f"By {name}", join([group_table(f"by-{index}", summary), plot])))
     numeric = [name for name in names if is_numeric(results.columns[name])]
     if len(numeric) >= 2:
         pair = summarize(results, by=numeric[:2], bins=bins)
