@@ -166,3 +166,27 @@ def test_make_vec_uses_the_batch_engine_with_next_step_autoreset():
     envs.step(np.zeros((3, 1)))
     before, _ = envs.reset(options={"reset_mask": np.array([True, False, False])})
     assert envs.cohorts == 2 and np.array_equal(before[0], obs[0]) and not np.array_equal(before[1], obs[1])
+
+
+def test_rgb_array_frames_follow_the_episode_at_a_fixed_size():
+    from matplotlib.colors import to_rgb
+
+    from vrusim.viz.style import EGO_FACE
+
+    env = gymnasium.make("vrusim/PaperPedestrian-v0", render_mode="rgb_array").unwrapped
+    assert env.metadata["render_fps"] == pytest.approx(100.0)  # one frame per 0.01 s step
+    env.reset(seed=0)
+    first = env.render()
+    assert first.dtype == np.uint8 and first.ndim == 3 and first.shape[2] == 3
+    ego = np.array(to_rgb(EGO_FACE)) * 255
+    assert (np.abs(first.astype(float) - ego).max(axis=2) < 8).sum() > 50  # the ego rectangle is drawn
+    for _ in range(150):
+        env.step(np.array([0.0], dtype=np.float32))
+    later = env.render()
+    assert later.shape == first.shape  # video recorders need one frame size
+    assert not np.array_equal(later, first)  # time label and positions moved on
+    with pytest.raises(ValueError, match="render_mode"):
+        VruEnv("paper:pedestrian", render_mode="human")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # advice only, as above
+        check_env(gymnasium.make("vrusim/PaperEscooter-v0", render_mode="rgb_array").unwrapped)

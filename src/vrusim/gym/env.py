@@ -10,12 +10,13 @@ from gymnasium import spaces
 
 from vrusim.gym.episodes import EpisodeBatch
 from vrusim.gym.features import DEFAULT_VRU_SLOTS, feature_names, observation_space
+from vrusim.gym.render import EpisodeFrames
 from vrusim.gym.reward import RewardWeights
 from vrusim.gym.sources import ScenarioSource, resolve_scenario
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.batch import pack
 from vrusim.sim.observation import Observation
-
+from vrusim.sim.stepper import BatchStepper
 
 def action_space(scenario: Scenario) -> spaces.Box:
     """Commanded acceleration, m/s^2, in [-max_decel, max_accel] of the scenario's ego (shape (1,))."""
@@ -40,7 +41,7 @@ class VruEnv(gymnasium.Env):
     the scenario's `sim.seed` keys its sensor and V2X randomness; `reset(seed=...)` only seeds `np_random`.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": []}
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 100}
 
     def __init__(
         self,
@@ -50,9 +51,10 @@ class VruEnv(gymnasium.Env):
         reward_weights: RewardWeights | None = None,
         render_mode: str | None = None,
     ) -> None:
-        if render_mode is not None:
-            raise ValueError(f"render_mode: {render_mode!r} is not supported (no rendering yet)")
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise ValueError(f"render_mode: {render_mode!r} is not supported; expected None or 'rgb_array'")
         self.scenario = resolve_scenario(scenario, v2x)
+        self.metadata = {**type(self).metadata, "render_fps": 1.0 / self.scenario.sim.dt_s}  # one frame a step
         if len(self.scenario.vrus) > vru_slots:
             raise ValueError(f"vru_slots={vru_slots}: the scenario has {len(self.scenario.vrus)} VRUs")
         self.params = pack([self.scenario])
@@ -64,6 +66,7 @@ class VruEnv(gymnasium.Env):
         self._low, self._high = -self.params.max_decel_mps2, self.params.max_accel_mps2
         self._episodes = EpisodeBatch(self.params, vru_slots, reward_weights or RewardWeights())
         self._running = False
+        self._frames = EpisodeFrames(self.scenario) if render_mode == "rgb_array" else None
 
     @property
     def planner_observation(self) -> Observation | None:
@@ -74,7 +77,10 @@ class VruEnv(gymnasium.Env):
         """Back to time 0; the first observation."""
         super().reset(seed=seed)
         self._running = True
-        return self._episodes.start()[0], {"t_s": 0.0}
+        observation = self._episodes.start()[0]
+        if self._frames is not None:
+            self._frames.restart(self._engine)
+        return observation, {"t_s": 0.0}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Advance one step under the commanded acceleration (m/s^2, clipped to the ego limits)."""
@@ -82,9 +88,24 @@ class VruEnv(gymnasium.Env):
             raise RuntimeError("VruEnv.step: the episode has ended (or not started); call reset()")
         command = checked_command(action, self._low, self._high)
         obs, reward, terminated, truncated = self._episodes.step(command)
+        if self._frames is not None:
+            self._frames.add(self._engine, command)
         done_terminated, done_truncated = bool(terminated[0]), bool(truncated[0])
         info: dict[str, Any] = {"t_s": self._episodes.stepper.t_s}
         if done_terminated or done_truncated:
             self._running = False
             info["metrics"] = self._episodes.summary(0)
         return obs[0], float(reward[0]), done_terminated, done_truncated, info
+
+    @property
+    def _engine(self) -> BatchStepper:
+        """The engine step of the current episode."""
+        return self._episodes.stepper.stepper
+
+    def render(self) -> np.ndarray | None:
+        """With render_mode="rgb_array": the current state as an RGB image (uint8 [H, W, 3]); else None."""
+        if self._frames is None:
+            return None
+        if not self._frames.recorder.rows:
+            raise RuntimeError("VruEnv.render: call reset() first")
+        return self._frames.frame(self._episodes.stepper.run())

@@ -65,7 +65,7 @@ def simulate(
     planner.reset(batch)
     mode_names = tuple(getattr(planner, "mode_names", ("running",)))
     stepper = BatchStepper(batch, len(mode_names), channel)
-    recorder = _TraceRecorder() if trace else None
+    recorder = TraceRecorder() if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
     for _ in range(batch.n_steps):
         observation = stepper.observe()
@@ -102,7 +102,7 @@ def _checked_command(command, size: int, name: str) -> np.ndarray:
     return array
 
 
-class _TraceRecorder:
+class TraceRecorder:
     """Full time series for plots and trace files (only when asked: memory O(B x steps)).
 
     Row i holds the state at t_s[i] = (i + 1) dt, and the detections, planner mode and command decided at

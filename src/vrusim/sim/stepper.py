@@ -56,8 +56,8 @@ def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
         _read_only(params.route_offset),
         _read_only(params.vru_radius_m),
         np.zeros(params.size),
-        np.empty((3, *shape)),
-        np.empty(shape),
+        np.full((3, *shape), np.inf),  # before the first step: no contact known
+        np.full(shape, np.inf),
     )
 
 

@@ -77,16 +77,26 @@ class Recording:
 
     def ego_route_xy_m(self) -> np.ndarray:
         """The ego's planned route as points [N, 2], m."""
-        return sample_path(ego_route_spec(self.scenario.ego))[:, :2]
+        return ego_route_xy_m(self.scenario)
 
     def vru_paths_xy_m(self) -> list[np.ndarray]:
         """Each VRU's prescribed path as points [N, 2], m."""
-        paths = []
-        for vru in self.scenario.vrus:
-            spec = vru_path_spec(vru)
-            points = sample_path(spec) if isinstance(spec, PathSpec) else sample_polyline(spec)
-            paths.append(points[:, :2])
-        return paths
+        return vru_paths_xy_m(self.scenario)
+
+
+def ego_route_xy_m(scenario: Scenario) -> np.ndarray:
+    """The ego's planned route as points [N, 2], m."""
+    return sample_path(ego_route_spec(scenario.ego))[:, :2]
+
+
+def vru_paths_xy_m(scenario: Scenario) -> list[np.ndarray]:
+    """Each VRU's prescribed path as points [N, 2], m."""
+    paths = []
+    for vru in scenario.vrus:
+        spec = vru_path_spec(vru)
+        points = sample_path(spec) if isinstance(spec, PathSpec) else sample_polyline(spec)
+        paths.append(points[:, :2])
+    return paths
 
 
 def record(scenarios: Sequence[Scenario]) -> list[Recording]:

@@ -382,9 +382,12 @@ def draw_scene(ax: Axes, recording: Recording, t_s: float, window: ViewWindow | 
     return artists
 
 
-def scene_figure(recording: Recording, t_s: float, width_in: float = 9.0, dpi: float = 100.0) -> Figure:
-    """A one-panel Figure (Agg canvas, no pyplot state) of `recording` at `t_s`, with a legend below."""
-    window = view_window(recording)
+def scene_figure(
+    recording: Recording, t_s: float, width_in: float = 9.0, dpi: float = 100.0, window: ViewWindow | None = None
+) -> Figure:
+    """A one-panel Figure (Agg canvas, no pyplot state) of `recording` at `t_s`, with a legend below; the view
+    fits the whole run unless a `window` is given."""
+    window = window if window is not None else view_window(recording)
     height_in = max(width_in * window.height_m / window.width_m + 1.3, 2.5)
     fig = Figure(figsize=(width_in, height_in), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
