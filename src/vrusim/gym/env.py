@@ -18,6 +18,7 @@ from vrusim.sim.batch import pack
 from vrusim.sim.observation import Observation
 from vrusim.sim.stepper import BatchStepper
 
+
 def action_space(scenario: Scenario) -> spaces.Box:
     """Commanded acceleration, m/s^2, in [-max_decel, max_accel] of the scenario's ego (shape (1,))."""
     low, high = -scenario.ego.max_decel_mps2, scenario.ego.max_accel_mps2
