@@ -138,7 +138,7 @@ def summarize_command(
     """Collision probability (Wilson 95 %) and metric statistics of a sweep, overall or per parameter group."""
     with user_errors():
         from vrusim.errors import UserInputError
-        from vrusim.sweep.sensitivity_plots import plot_format
+        from vrusim.sweep.sensitivity_plots import check_plot_path
         from vrusim.sweep.summarize import open_results, split_names, summarize
 
         if plot is None:
@@ -146,7 +146,7 @@ def summarize_command(
                 if value is not None:
                     raise UserInputError(f"{option}: only used with --plot OUT.png|OUT.svg|OUT.pdf")
         else:
-            plot_format(plot)
+            check_plot_path(plot)
             if x is None:
                 raise UserInputError("--plot: needs --x PARAMETER (and --y PARAMETER for a heat map)")
         chosen = split_names("--metrics", metrics) if metrics is not None else None

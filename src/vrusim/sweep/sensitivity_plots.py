@@ -17,10 +17,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from vrusim.atomic_io import write_atomically
 from vrusim.errors import UserInputError
+from vrusim.viz import figure_io
+from vrusim.viz.figure_io import check_figure_path
 
-PLOT_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
 """Figure file suffix (case-insensitive) → matplotlib format."""
 SCORES = ("safety", "efficiency", "comfort")
 """Metrics without a unit: scores in [0, 1]."""
@@ -59,13 +59,12 @@ def axis_label(name: str, prefix: str = "") -> str:
     return f"{text} ({unit})" if unit else text
 
 
-def plot_format(path: str | Path) -> str:
-    """'png', 'svg' or 'pdf' from the suffix of `path`; anything else is a user error naming --plot."""
-    suffix = Path(path).suffix.lower()
-    if suffix not in PLOT_FORMATS:
-        shown = f"'{Path(path).suffix}'" if Path(path).suffix else "no suffix"
-        raise UserInputError(f"--plot: unsupported figure type ({shown}) for {path}; use .png, .svg or .pdf")
-    return PLOT_FORMATS[suffix]
+def check_plot_path(path: str | Path) -> Path:
+    """The --plot path if a .png, .svg or .pdf can be written there; else a UserInputError naming --plot."""
+    try:
+        return check_figure_path(path)
+    except UserInputError as error:
+        raise UserInputError(f"--plot: {error}") from None
 
 
 # ----------------------------------------------------------------------------------------------- axes
@@ -222,15 +221,14 @@ def _heat_map(fig: Figure, ax, summary: dict[str, Any], x: GroupAxis, y: GroupAx
 
 def write_figure(fig: Figure, path: str | Path) -> Path:
     """Save `fig` atomically as PNG, SVG or PDF (by suffix) at the figure's dpi; return the path."""
-    kind = plot_format(path)
-    return write_atomically(path, lambda temp: fig.savefig(temp, format=kind, dpi=fig.dpi), "plot")
+    return figure_io.write_figure(fig, check_plot_path(path), fig.dpi)
 
 
 def write_sensitivity_plot(
     summary: dict[str, Any], path: str | Path, x: str, y: str | None = None, metric: str | None = None
 ) -> Figure:
     """Build the figure (see `sensitivity_figure`), write it to `path` and return it."""
-    plot_format(path)
+    check_plot_path(path)
     fig = sensitivity_figure(summary, x, y, metric)
     write_figure(fig, path)
     return fig
