@@ -61,8 +61,14 @@ CASES = [
         "string-speed",
         lambda d: d["ego"].update(cruise_speed_mps="fast"),
         "ego.cruise_speed_mps",
-        r"valid number",
+        r"^expected a number, got a string \('fast'\)$",
     ),
+    # pydantic's lax mode would read these as 1.0, 12.5 and true; YAML 1.1 reads `on` / `yes` as true
+    ("boolean-speed", lambda d: d["ego"].update(cruise_speed_mps=True), "ego.cruise_speed_mps", r"got a boolean"),
+    ("quoted-number", set_vru0("top_speed_mps", "12.5"), "vrus[0].top_speed_mps", r"got a string \('12.5'\)"),
+    ("boolean-in-point", set_vru0("start", [True, 2.0]), "vrus[0].start.x_m", r"expected a number"),
+    ("number-for-switch", lambda d: d.update(v2x={"enabled": 1}), "v2x.enabled", r"^expected true or false, got a"),
+    ("boolean-seed", lambda d: d.update(sim={"seed": False}), "sim.seed", r"expected a number, got a boolean"),
     ("negative-speed", set_vru0("top_speed_mps", -1.0), "vrus[0].top_speed_mps", r"greater than or equal to 0"),
     ("negative-initial-speed", set_vru0("initial_speed_mps", -0.5), "vrus[0].initial_speed_mps", r"greater than or"),
     (
@@ -103,7 +109,7 @@ CASES = [
     ("trigger-no-point", set_vru0("trigger", {"ego_distance_m": 10.0}), "vrus[0].trigger", r"needs `point`"),
     ("v2x-without-rsu", lambda d: d.update(v2x={"enabled": True}), "v2x", r"rsu"),
     ("point-triple", set_vru0("start", [1.0, 2.0, 3.0]), "vrus[0].start", r"\[x_m, y_m\]"),
-    ("nested-point-type", lambda d: d["ego"]["start"].update(x_m="left"), "ego.start.x_m", r"valid number"),
+    ("nested-point-type", lambda d: d["ego"]["start"].update(x_m="left"), "ego.start.x_m", r"expected a number"),
     ("no-vrus", lambda d: d.update(vrus=[]), "vrus", r"at least 1"),
     ("missing-ego", lambda d: d.pop("ego"), "ego", r"[Ff]ield required"),
     ("bad-vru-type", set_vru0("type", "horse"), "vrus[0].type", r"pedestrian"),
@@ -181,6 +187,24 @@ def test_invalid_yaml(tmp_path):
     with pytest.raises(UserInputError) as info:
         load_scenario(path)
     assert str(info.value).startswith(f"{path}: not valid YAML")
+
+
+def test_repeated_key_is_rejected_with_its_line(tmp_path):
+    """PyYAML keeps the last of two equal keys silently; a scenario file must not mean something else than it reads."""
+    path = tmp_path / "twice.yaml"
+    path.write_text("name: a\nsim:\n  dt_s: 0.01\n  dt_s: 0.02\n", encoding="utf-8")
+    with pytest.raises(UserInputError) as info:
+        load_scenario(path)
+    assert str(info.value) == f"{path}: not valid YAML (line 4, column 3: key 'dt_s' appears twice in one mapping)"
+
+
+def test_yaml_merge_key_may_be_overridden(tmp_path):
+    """`<<: *anchor` followed by an explicit key is YAML's override, not a repeated key."""
+    from vrusim.scenario.yaml_file import read_yaml_file
+
+    path = tmp_path / "merge.yaml"
+    path.write_text("base: &b {x_m: 1.0, y_m: 2.0}\npoint:\n  <<: *b\n  y_m: 3.0\n", encoding="utf-8")
+    assert read_yaml_file(path, "test") == {"base": {"x_m": 1.0, "y_m": 2.0}, "point": {"x_m": 1.0, "y_m": 3.0}}
 
 
 def test_yaml_list_at_top_level(tmp_path):

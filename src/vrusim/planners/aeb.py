@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import Field, ValidationInfo, field_validator
 
 from vrusim.planners.conflict import new_tracks, update_track
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.route_ttc import route_ttc
+from vrusim.scenario.strict import StrictModel
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
@@ -31,10 +32,8 @@ from vrusim.sim.observation import Observation
 CRUISE, WARNING, PARTIAL_BRAKE, FULL_BRAKE = 0, 1, 2, 3
 
 
-class AebParams(BaseModel):
+class AebParams(StrictModel):
     """Parameters of the AEB planner (YAML `planner.params`)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, validate_default=True)
 
     warning_ttc_s: float = Field(2.6, gt=0, description="FCW at TTC <= this, s")
     partial_ttc_s: float = Field(1.6, gt=0, description="partial braking at TTC <= this, s")

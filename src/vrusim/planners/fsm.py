@@ -25,10 +25,11 @@ from __future__ import annotations
 
 import numpy as np
 from numba import prange
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
+from vrusim.scenario.strict import StrictModel
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
@@ -37,10 +38,8 @@ from vrusim.sim.observation import Observation
 CRUISE, PRE_SLOW, EMERGENCY_BRAKE, FOLLOW = 0, 1, 2, 3
 
 
-class FsmParams(BaseModel):
+class FsmParams(StrictModel):
     """Parameters of the FSM planner (YAML `planner.params`)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     headway_s: float = Field(2.0, gt=0, description="D_safe = headway_s * v (two-second rule)")
     pre_slow_decel_mps2: float = Field(2.0, gt=0)

@@ -25,12 +25,13 @@ from typing import Literal
 
 import numpy as np
 from numba import prange
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import Field, ValidationInfo, field_validator
 
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.prediction import CONSTANT_VELOCITY, PATH, occupancy_bounds, path_station_of, plan_start
 from vrusim.planners.route_ttc import route_ttc
+from vrusim.scenario.strict import StrictModel
 from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
 from vrusim.sim.kernels import batch_kernel
@@ -49,10 +50,8 @@ EMERGENCY_EXIT = 0.8
 """An emergency brake ends when the plan needs less than this fraction of the comfort deceleration."""
 
 
-class PredictiveParams(BaseModel):
+class PredictiveParams(StrictModel):
     """Parameters of the predictive planner (YAML `planner.params`)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, validate_default=True)
 
     prediction: Literal["constant_velocity", "path"] = "constant_velocity"
     speed_envelope: bool = Field(True, description="also predict at the VRU's current along-track acceleration")

@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import yaml
 from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.scenario.schema import Scenario
+from vrusim.scenario.yaml_file import read_yaml_file
 
 
 def field_path(location: tuple[int | str, ...]) -> str:
@@ -43,20 +43,6 @@ def scenario_from_mapping(data: Any, source: str = "scenario") -> Scenario:
         return Scenario.model_validate(data)
     except ValidationError as error:
         raise UserInputError(describe_validation_error(error, source)) from None
-
-
-def read_yaml_file(path: Path, kind: str) -> object:
-    """The parsed YAML document in `path`; a missing, unreadable or malformed file is a UserInputError."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise UserInputError(f"{path}: no such {kind} file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read {kind} file ({error.__class__.__name__}: {error})") from None
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        raise UserInputError(f"{path}: not valid YAML ({error})") from None
 
 
 def load_scenario(path: str | Path) -> Scenario:

@@ -9,21 +9,17 @@ from __future__ import annotations
 import math
 from typing import Any, Literal, Self
 
-from pydantic import BaseModel, ConfigDict, Field, ValidatorFunctionWrapHandler, field_validator, model_validator
+from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
+from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.v2x_channel import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
-
-
-class _Frozen(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False)
-
 
 MAX_STEPS = 10_000_000
 """Most time steps one run may take."""
 
 
-class Point(_Frozen):
+class Point(StrictModel):
     """A world-frame point, m. YAML may also write it as a two-element list `[x, y]`."""
 
     x_m: float
@@ -45,7 +41,7 @@ class Pose(Point):
     heading_deg: float = 0.0
 
 
-class Road(_Frozen):
+class Road(StrictModel):
     """Road layout, centred on the world origin. Lanes are two-way: traffic keeps right."""
 
     layout: Literal["straight", "intersection"] = "straight"
@@ -53,7 +49,7 @@ class Road(_Frozen):
     length_m: float = Field(200.0, gt=0, description="drawn length of each road arm pair, m")
 
 
-class Route(_Frozen):
+class Route(StrictModel):
     """The ego's prescribed path (tracked by the rear-axle centre), starting at its start pose.
 
     straight: a line of `length_m`. left / right: a line of `turn_at_m`, the turn, then a line to the total
@@ -100,14 +96,14 @@ class Route(_Frozen):
         return self
 
 
-class PathTracking(_Frozen):
+class PathTracking(StrictModel):
     """Gains of the rear-axle path tracker (curvature feedforward + lateral and heading feedback)."""
 
     lateral_gain_per_m2: float = Field(0.3, gt=0)
     heading_gain_per_m: float = Field(1.2, gt=0)
 
 
-class Ego(_Frozen):
+class Ego(StrictModel):
     """The ego vehicle: a kinematic bicycle. `start` is the centre of its rectangle, facing `start.heading_deg`.
 
     With `reverse` it drives backwards: the route runs from the start pose against `start.heading_deg`.
@@ -172,7 +168,7 @@ class Ego(_Frozen):
         return self.rear_overhang_m
 
 
-class Obstacle(_Frozen):
+class Obstacle(StrictModel):
     """A static box (e.g. a parked car) that blocks the onboard sensor's line of sight; it never collides."""
 
     kind: str = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
@@ -205,7 +201,7 @@ def _corners(pose: Pose, length_m: float, width_m: float) -> list[tuple[float, f
     ]
 
 
-class Sensor(_Frozen):
+class Sensor(StrictModel):
     """Onboard sector sensor with its apex at the centre of the front bumper.
 
     The defaults are the ideal sensor (no latency, no missed detection, no noise, daylight); the realism
@@ -235,7 +231,7 @@ class Sensor(_Frozen):
         return self.range_m * self.night_range_factor if self.lighting == "night" else self.range_m
 
 
-class V2X(_Frozen):
+class V2X(StrictModel):
     """Roadside unit (RSU) broadcasting VRU awareness messages of the VRUs it perceives."""
 
     enabled: bool = False
@@ -261,7 +257,7 @@ class V2X(_Frozen):
         return self
 
 
-class PlannerSpec(_Frozen):
+class PlannerSpec(StrictModel):
     """Which planner drives the ego, and its parameters (validated by the planner itself)."""
 
     name: str = "fsm"
@@ -271,7 +267,7 @@ class PlannerSpec(_Frozen):
 _TRIGGER_CONDITIONS = ("at_time_s", "ego_distance_m", "ego_time_to_arrival_s", "ego_route_m")
 
 
-class Trigger(_Frozen):
+class Trigger(StrictModel):
     """When a VRU starts moving: give exactly one of the four conditions."""
 
     at_time_s: float | None = Field(None, ge=0)
@@ -293,14 +289,14 @@ class Trigger(_Frozen):
         return self
 
 
-class VruBrake(_Frozen):
+class VruBrake(StrictModel):
     """A braking phase: a set time after its trigger the VRU decelerates to a standstill."""
 
     after_trigger_s: float = Field(ge=0, description="delay from the trigger to the start of braking, s")
     decel_mps2: float = Field(gt=0, description="constant deceleration, m/s^2")
 
 
-class Vru(_Frozen):
+class Vru(StrictModel):
     """A vulnerable road user: a point mass moving along a prescribed path from rest to its top speed.
 
     Before its trigger fires it holds `initial_speed_mps` (0: standing); a `brake` phase, if given, then
@@ -349,7 +345,7 @@ class Vru(_Frozen):
         return self.radius_m if self.radius_m is not None else VRU_DEFAULTS[self.type].radius_m
 
 
-class SimSettings(_Frozen):
+class SimSettings(StrictModel):
     """Integration step, duration and stop conditions."""
 
     dt_s: float = Field(0.01, gt=0, le=0.1)
@@ -367,7 +363,7 @@ class SimSettings(_Frozen):
         return self
 
 
-class MetricsSettings(_Frozen):
+class MetricsSettings(StrictModel):
     """Which score calibration profile to use (see docs/metrics.md)."""
 
     profile: str = "paper"
@@ -382,7 +378,7 @@ class MetricsSettings(_Frozen):
         return name
 
 
-class Scenario(_Frozen):
+class Scenario(StrictModel):
     """One closed-loop test case: the single source of truth for a run."""
 
     name: str = Field(min_length=1)

@@ -12,10 +12,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Literal, Self
 
-import yaml
 from pydantic import (
     BaseModel,
-    ConfigDict,
     Field,
     ValidationError,
     ValidatorFunctionWrapHandler,
@@ -24,13 +22,11 @@ from pydantic import (
 )
 
 from vrusim.errors import UserInputError
+from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.yaml_file import read_yaml_file
 
 
-class _Frozen(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False)
-
-
-class Generation(_Frozen):
+class Generation(StrictModel):
     """When the RSU generates a message about a VRU it covers.
 
     every_step: every simulation step. periodic: every 1 / `rate_hz`. etsi_vam: the VRU awareness message
@@ -54,20 +50,20 @@ class Generation(_Frozen):
         return self
 
 
-class NoLoss(_Frozen):
+class NoLoss(StrictModel):
     """Every message sent within range arrives."""
 
     model: Literal["none"] = "none"
 
 
-class BernoulliLoss(_Frozen):
+class BernoulliLoss(StrictModel):
     """Each message is lost independently with `probability`."""
 
     model: Literal["bernoulli"] = "bernoulli"
     probability: float = Field(ge=0, le=1)
 
 
-class GilbertElliottLoss(_Frozen):
+class GilbertElliottLoss(StrictModel):
     """Two-state Markov loss (Gilbert 1960, Elliott 1963) on the RSU→ego link, one transition per message.
 
     Before each message the link moves good→bad with `p_good_to_bad` and bad→good with `p_bad_to_good`;
@@ -98,7 +94,7 @@ class GilbertElliottLoss(_Frozen):
         return 1.0 / self.p_bad_to_good
 
 
-class DistanceLoss(_Frozen):
+class DistanceLoss(StrictModel):
     """Packet delivery ratio falling with the RSU–ego distance d: PDR(d) = 1 / (1 + exp((d - d50_m) / scale_m))."""
 
     model: Literal["distance"] = "distance"
@@ -120,7 +116,7 @@ _LOSS_MODELS: dict[str, type[BaseModel]] = {
 }
 
 
-class Outage(_Frozen):
+class Outage(StrictModel):
     """A scheduled discontinuity: nothing sent in [start_s, end_s) gets through, nothing arrives in it."""
 
     start_s: float = Field(ge=0)
@@ -133,7 +129,7 @@ class Outage(_Frozen):
         return self
 
 
-class ChannelSpec(_Frozen):
+class ChannelSpec(StrictModel):
     """A V2X channel: generation, end-to-end delay, loss, outages, RSU perception error, ego track age.
 
     Delay of each message: `latency_s` + U(0, `jitter_s`) (uniform). The ego keeps a track per VRU from the
@@ -245,14 +241,7 @@ def check_channel(value: Any) -> str | ChannelSpec:
 def load_profiles(path: str | Path) -> dict[str, ChannelSpec]:
     """Read user channel profiles: a YAML mapping of profile name → channel fields (as in `v2x.channel`)."""
     path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise UserInputError(f"{path}: no such profile file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read profile file ({error.__class__.__name__}: {error})") from None
-    except yaml.YAMLError as error:
-        raise UserInputError(f"{path}: not valid YAML ({error})") from None
+    data = read_yaml_file(path, "profile")
     if not isinstance(data, dict) or not data:
         raise UserInputError(f"{path}: expected a mapping of profile names to channel fields")
     profiles: dict[str, ChannelSpec] = {}

@@ -20,10 +20,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
-from vrusim.scenario.loading import field_path, read_yaml_file
+from vrusim.scenario.loading import field_path
+from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.yaml_file import read_yaml_file
 
 MAX_VARIANTS = 100_000_000
 """Most variants one sweep may have."""
@@ -33,11 +35,7 @@ GRID_KINDS = ("grid",)
 RANDOM_KINDS = ("uniform", "normal", "truncated_normal", "choice")
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class CatalogueBase(_Strict):
+class CatalogueBase(StrictModel):
     """A catalogue selection as the base: every selected Euro NCAP test is one value of the `test` dimension."""
 
     scenarios: list[str] = Field(min_length=1, description="scenario codes or prefixes, as `vrusim ncap --scenario`")
@@ -46,7 +44,7 @@ class CatalogueBase(_Strict):
     planner: str = "fsm"
 
 
-class SpecFile(_Strict):
+class SpecFile(StrictModel):
     """The YAML document as written (parameters are parsed separately into `Parameter`s)."""
 
     name: str | None = Field(None, min_length=1)
