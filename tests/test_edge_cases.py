@@ -175,3 +175,22 @@ def test_swept_contact_reports_the_side_that_was_hit(make_scenario):
     assert row["outcome"] == "collision"
     assert row["impact_side"] == "right"
     assert row["min_clearance_m"] <= 0.0
+
+
+def test_kernel_caches_of_old_source_versions_are_pruned(tmp_path):
+    """Each source version compiles into its own cache folder; folders unused for a week are deleted."""
+    import os
+    import time
+
+    from vrusim import prune_kernel_caches
+
+    old, recent, current = (tmp_path / name for name in ("old", "recent", "current"))
+    for folder in (old, recent, current):
+        folder.mkdir()
+        (folder / "kernel.nbi").write_text("x")
+    week_ago = time.time() - 8 * 86400
+    os.utime(old, (week_ago, week_ago))
+    os.utime(current, (week_ago, week_ago))
+    prune_kernel_caches(tmp_path, keep="current", unused_days=7)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["current", "recent"]
+    assert time.time() - current.stat().st_mtime < 60  # using a folder marks it as recent
