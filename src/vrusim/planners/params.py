@@ -10,6 +10,7 @@ from pydantic import BaseModel, ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import field_path
+from vrusim.scenario.strict import error_message
 from vrusim.sim.batch import BatchParams
 
 Model = TypeVar("Model", bound=BaseModel)
@@ -27,8 +28,7 @@ def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
         except ValidationError as error:
             item = error.errors(include_url=False)[0]
             where = field_path(("planner", "params", *item["loc"]))
-            message = "unknown field" if item["type"] == "extra_forbidden" else item["msg"]
-            raise UserInputError(f"{scenario.name}: {where}: {message}") from None
+            raise UserInputError(f"{scenario.name}: {where}: {error_message(item)}") from None
     return out
 
 

@@ -9,6 +9,7 @@ from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.scenario.schema import Scenario
+from vrusim.scenario.strict import error_message
 from vrusim.scenario.yaml_file import read_yaml_file
 
 
@@ -28,10 +29,7 @@ def describe_validation_error(error: ValidationError, source: str) -> str:
     lines = [f"{source}: invalid scenario"]
     for item in error.errors(include_url=False):
         location = tuple(p for p in item["loc"] if p not in ("function-after[_from_pair(), Point]",))
-        message = item["msg"].removeprefix("Value error, ")
-        if item["type"] == "extra_forbidden":
-            message = "unknown field"
-        lines.append(f"  {field_path(location)}: {message}")
+        lines.append(f"  {field_path(location)}: {error_message(item)}")
     return "\n".join(lines)
 
 

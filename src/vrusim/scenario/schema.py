@@ -303,7 +303,7 @@ class Vru(StrictModel):
     stops it. A `top_speed_mps` of 0 is a stationary target.
     """
 
-    type: VruType
+    type: VruType = Field(strict=False)  # written as its name
     start: Point
     heading_deg: float | None = Field(None, description="straight path from start in this direction")
     path: list[Point] | None = Field(None, description="polyline waypoints after start")

@@ -22,7 +22,7 @@ from pydantic import (
 )
 
 from vrusim.errors import UserInputError
-from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
 
 
@@ -140,7 +140,7 @@ class ChannelSpec(StrictModel):
     latency_s: float = Field(0.0, ge=0, le=10, description="fixed end-to-end delay, s")
     jitter_s: float = Field(0.0, ge=0, le=10, description="extra delay, uniform in [0, jitter_s], s")
     loss: LossModel = NoLoss()
-    outages: tuple[Outage, ...] = Field((), max_length=16)
+    outages: tuple[Outage, ...] = Field((), max_length=16, strict=False)  # a YAML list
     rsu_position_sigma_m: float = Field(0.0, ge=0, description="std. dev. of each reported position coordinate, m")
     rsu_speed_sigma_mps: float = Field(0.0, ge=0, description="std. dev. of each reported velocity component, m/s")
     track_max_age_s: float = Field(1.0, ge=0, le=3600, description="ego drops a track older than this, s")
@@ -259,8 +259,7 @@ def load_profiles(path: str | Path) -> dict[str, ChannelSpec]:
             except ValidationError as error:
                 for item in error.errors(include_url=False):
                     where = ".".join([name, *(str(p) for p in item["loc"])])
-                    message = item["msg"].removeprefix("Value error, ")
-                    problems.append(f"  {where}: {'unknown field' if item['type'] == 'extra_forbidden' else message}")
+                    problems.append(f"  {where}: {error_message(item)}")
     if problems:
         raise UserInputError("\n".join([f"{path}: invalid channel profiles", *problems]))
     return profiles

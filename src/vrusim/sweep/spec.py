@@ -24,7 +24,7 @@ from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import field_path
-from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
 
 MAX_VARIANTS = 100_000_000
@@ -242,7 +242,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     except ValidationError as error:
         lines = [f"{source}: invalid sweep spec"]
         for item in error.errors(include_url=False):
-            message = "unknown field" if item["type"] == "extra_forbidden" else item["msg"]
+            message = error_message(item)
             lines.append(f"  {field_path(item['loc'])}: {message.removeprefix('Value error, ')}")
         raise UserInputError("\n".join(lines)) from None
     parameters = tuple(parse_parameter(str(path), value) for path, value in document.parameters.items())
