@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from vrusim.gc_pause import gc_paused
 from vrusim.metrics.columns import result_columns
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
@@ -74,5 +75,7 @@ def run_chunk(task: ChunkTask) -> pa.Table:
 
         numba.set_num_threads(min(task.threads, numba.config.NUMBA_NUM_THREADS))
     rows = range(len(task.rows["variant"]))
-    scenarios = _builder(task).build(task.rows, rows)
-    return chunk_table(task.rows, task.types, _simulate_groups(scenarios))
+    with gc_paused():
+        scenarios = _builder(task).build(task.rows, rows)
+        columns = _simulate_groups(scenarios)
+    return chunk_table(task.rows, task.types, columns)
