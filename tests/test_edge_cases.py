@@ -194,3 +194,25 @@ def test_kernel_caches_of_old_source_versions_are_pruned(tmp_path):
     prune_kernel_caches(tmp_path, keep="current", unused_days=7)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["current", "recent"]
     assert time.time() - current.stat().st_mtime < 60  # using a folder marks it as recent
+
+
+def test_gc_paused_restores_the_collector_state_and_nests():
+    """Sweep batches pause the cyclic collector; only the outermost block turns it back on."""
+    import gc
+
+    from vrusim.gc_pause import gc_paused
+
+    assert gc.isenabled()
+    with gc_paused():
+        assert not gc.isenabled()
+        with gc_paused():
+            assert not gc.isenabled()
+        assert not gc.isenabled()
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        with gc_paused():
+            pass
+        assert not gc.isenabled()  # a caller that had it off keeps it off
+    finally:
+        gc.enable()
