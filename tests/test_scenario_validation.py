@@ -70,6 +70,7 @@ CASES = [
     ("number-for-switch", lambda d: d.update(v2x={"enabled": 1}), "v2x.enabled", r"^Input should be a valid boolean"),
     ("boolean-seed", lambda d: d.update(sim={"seed": False}), "sim.seed", r"valid integer, got false"),
     ("number-for-name", lambda d: d.update(name=7), "name", r"valid string, got 7"),
+    ("mapping-for-list", lambda d: d.update(vrus={"type": "pedestrian"}), "vrus", r"^Input should be a list$"),
     ("negative-speed", set_vru0("top_speed_mps", -1.0), "vrus[0].top_speed_mps", r"greater than or equal to 0"),
     ("negative-initial-speed", set_vru0("initial_speed_mps", -0.5), "vrus[0].initial_speed_mps", r"greater than or"),
     (

@@ -25,6 +25,8 @@ def error_message(item: ErrorDetails) -> str:
     wrong-type error with the value given (`Input should be a valid number, got true`), else pydantic's text."""
     if item["type"] == "extra_forbidden":
         return "unknown field"
+    if item["type"] in ("tuple_type", "list_type"):  # "tuple" is Python's word; YAML writes a list
+        return "Input should be a list"
     message = item["msg"].removeprefix("Value error, ")
     value = item.get("input")
     if item["type"].endswith("_type") and isinstance(value, bool | int | float | str):
