@@ -126,3 +126,23 @@ def test_entry_points_are_not_consulted_for_builtins_or_module_paths(monkeypatch
     monkeypatch.setattr(importlib.metadata, "entry_points", fail)
     for name in ("fsm", "none", "aeb", "predictive", "tests.warning_planner:WarnOnDetection"):
         make_planner(name)
+
+
+def test_plugin_source_names_the_module_file_and_its_hash(monkeypatch, example_on_path):
+    """What a sweep manifest records of a plug-in planner, by module path and by entry point."""
+    import hashlib
+
+    from vrusim.planners.registry import plugin_source
+
+    module_file = EXAMPLE / "mypkg" / "brake_on_detection.py"
+    expected = {
+        "module": "mypkg.brake_on_detection",
+        "file": str(module_file),
+        "sha256": hashlib.sha256(module_file.read_bytes()).hexdigest(),
+    }
+    assert plugin_source("fsm") is None  # built-ins are covered by vrusim's own source digest
+    assert plugin_source(MODULE_PATH) == {"planner": MODULE_PATH, **expected}
+    fake_entry_points(monkeypatch, **{"brake-on-detection": MODULE_PATH})
+    assert plugin_source("brake-on-detection") == {"planner": "brake-on-detection", "distribution": None, **expected}
+    with pytest.raises(UserInputError, match=r"planner\.name: unknown planner 'nope'"):
+        plugin_source("nope")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import signal
@@ -219,6 +220,42 @@ def test_resume_warns_when_the_code_changed(tmp_path):
     manifest["plan"]["seed"] = 99  # an edited plan no longer matches its digest
     (out / "manifest.json").write_text(json.dumps(manifest))
     assert_user_error(invoke("sweep", "--out", out, "--resume"), "manifest.json", "digest")
+
+
+def test_plugin_planner_code_is_recorded_and_a_change_warns_on_resume(tmp_path, monkeypatch):
+    """vrusim's source digest does not cover a user's planner: its module file is hashed into the manifest."""
+    plugin = tmp_path / "plugins" / "my_hold_planner.py"
+    plugin.parent.mkdir()
+    plugin.write_text(
+        "from vrusim.planners.base import HoldSpeedPlanner\n\n\nclass Hold(HoldSpeedPlanner):\n    pass\n"
+    )
+    monkeypatch.syspath_prepend(str(plugin.parent))
+    spec = write_spec(
+        tmp_path,
+        set={"planner": {"name": "my_hold_planner:Hold", "params": {}}, "sim.duration_s": 4.0},
+        parameters={"ego.cruise_speed_mps": [12.0, 14.0], "planner.name": ["fsm", "my_hold_planner:Hold"]},
+        samples=1,
+        batch_size=2,
+    )
+    out = tmp_path / "out"
+    assert run_sweep(load_spec(spec), out).warnings == []
+    recorded = json.loads((out / "manifest.json").read_text())["code"]["planner_plugins"]
+    assert recorded == [
+        {
+            "planner": "my_hold_planner:Hold",
+            "module": "my_hold_planner",
+            "file": str(plugin),
+            "sha256": hashlib.sha256(plugin.read_bytes()).hexdigest(),
+        }
+    ]
+    (SweepStore(out).chunks / chunk_name(1)).unlink()
+    assert run_sweep(None, out, resume=True).warnings == []  # unchanged plug-in: no warning
+    (SweepStore(out).chunks / chunk_name(1)).unlink()
+    plugin.write_text(plugin.read_text() + "# tuned\n")
+    warnings = run_sweep(None, out, resume=True).warnings
+    assert len(warnings) == 1
+    assert warnings[0].startswith("planner 'my_hold_planner:Hold': its module my_hold_planner (")
+    assert "changed since the sweep started" in warnings[0]
 
 
 def test_catalogue_sweep_matches_the_catalogue_run(tmp_path):

@@ -10,9 +10,11 @@ declare, e.g. in their pyproject.toml:
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import importlib.metadata
 from collections.abc import Callable
+from pathlib import Path
 
 from vrusim.errors import UserInputError
 from vrusim.planners.aeb import AebPlanner
@@ -82,3 +84,33 @@ def _instantiate(cls: object, where: str) -> Planner:
     if not isinstance(planner, Planner):
         raise UserInputError(f"planner.name: {where} has no reset(params) and act(observation) methods")
     return planner
+
+
+def plugin_source(name: str) -> dict[str, str | None] | None:
+    """Which code a plug-in planner runs: its module, the module file and that file's SHA-256 (None for a
+    built-in, whose code vrusim's own source digest covers). Entry points add their distribution and version.
+
+    Only the module that defines the class is hashed: a change in another module of the plug-in goes unseen.
+    """
+    if name in BUILTIN_PLANNERS:
+        return None
+    info: dict[str, str | None] = {"planner": name}
+    target = name
+    if ":" not in name:
+        entry = registered_planners().get(name)
+        if entry is None:
+            make_planner(name)  # raises the unknown-planner error
+            return None  # pragma: no cover (make_planner raised)
+        target = entry.value
+        dist = getattr(entry, "dist", None)
+        info["distribution"] = None if dist is None else f"{dist.name} {dist.version}"
+    module_name = target.partition(":")[0].strip()
+    try:
+        module = importlib.import_module(module_name)
+    except Exception as error:  # a broken plug-in is the user's input, not our bug
+        raise UserInputError(f"planner.name: cannot import {name!r} ({error.__class__.__name__}: {error})") from None
+    file = getattr(module, "__file__", None)
+    info["module"] = module_name
+    info["file"] = file
+    info["sha256"] = hashlib.sha256(Path(file).read_bytes()).hexdigest() if file else None
+    return info

@@ -16,7 +16,7 @@ import pyarrow as pa
 
 import vrusim
 from vrusim.errors import UserInputError
-from vrusim.planners.registry import make_planner
+from vrusim.planners.registry import make_planner, plugin_source
 from vrusim.sim.batch import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
@@ -47,6 +47,20 @@ class SweepResult:
     def variants_per_s(self) -> float:
         """Variants simulated and stored by this call per second of its wall time (planning included)."""
         return self.variants_run / self.elapsed_s if self.elapsed_s > 0 else 0.0
+
+
+def plan_planners(plan: SweepPlan) -> list[str]:
+    """Every planner name the variants of `plan` can use: the bases' and any swept `planner.name` values."""
+    names = {base["planner"]["name"] for base in plan.bases.values()}
+    for parameter in plan.parameters:
+        if parameter.path == "planner.name":
+            names.update(str(value) for value in parameter.values)
+    return sorted(names)
+
+
+def plugin_sources(plan: SweepPlan) -> list[dict[str, str | None]]:
+    """Module, file and SHA-256 of each plug-in planner of the plan (built-ins are covered by source_sha256)."""
+    return [info for name in plan_planners(plan) if (info := plugin_source(name)) is not None]
 
 
 def code_version() -> dict[str, Any]:
@@ -151,7 +165,7 @@ def _open(
             "parameters": [p.describe() for p in plan.parameters],
             "plan": plan.describe(),
             "plan_sha256": plan.digest(),
-            "code": code_version(),
+            "code": {**code_version(), "planner_plugins": plugin_sources(plan)},
         }
         store.create(manifest, chunk_table(design, design_types(design), {}))
         return plan, design
@@ -169,6 +183,13 @@ def _open(
         raise UserInputError(f"{store.folder}: the design drawn now differs from the stored one (library change?)")
     if manifest.get("code", {}).get("source_sha256") != vrusim.source_digest():
         warnings.append("the code changed since the sweep started; resumed batches may differ from the earlier ones")
+    recorded = {info["planner"]: info for info in manifest.get("code", {}).get("planner_plugins", [])}
+    for info in plugin_sources(plan):
+        if recorded.get(info["planner"], {}).get("sha256") != info["sha256"]:
+            warnings.append(
+                f"planner {info['planner']!r}: its module {info['module']} ({info['file']}) changed since the sweep "
+                "started; resumed batches may differ from the earlier ones"
+            )
     return plan, design
 
 
