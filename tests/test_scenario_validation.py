@@ -191,15 +191,6 @@ def test_invalid_yaml(tmp_path):
     assert str(info.value).startswith(f"{path}: not valid YAML")
 
 
-def test_repeated_key_is_rejected_with_its_line(tmp_path):
-    """PyYAML keeps the last of two equal keys silently; a scenario file must not mean something else than it reads."""
-    path = tmp_path / "twice.yaml"
-    path.write_text("name: a\nsim:\n  dt_s: 0.01\n  dt_s: 0.02\n", encoding="utf-8")
-    with pytest.raises(UserInputError) as info:
-        load_scenario(path)
-    assert str(info.value) == f"{path}: not valid YAML (line 4, column 3: key 'dt_s' appears twice in one mapping)"
-
-
 def test_yaml_merge_key_may_be_overridden(tmp_path):
     """`<<: *anchor` followed by an explicit key is YAML's override, not a repeated key."""
     from vrusim.scenario.yaml_file import read_yaml_file
@@ -209,12 +200,24 @@ def test_yaml_merge_key_may_be_overridden(tmp_path):
     assert read_yaml_file(path, "test") == {"base": {"x_m": 1.0, "y_m": 2.0}, "point": {"x_m": 1.0, "y_m": 3.0}}
 
 
-def test_yaml_list_at_top_level(tmp_path):
-    path = tmp_path / "list.yaml"
-    path.write_text("- name: a\n- name: b\n", encoding="utf-8")
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("- name: a\n- name: b\n", "expected a mapping of scenario fields at the top level"),
+        # PyYAML keeps the last of two equal keys silently: a file must not mean something else than it reads
+        (
+            "name: a\nsim:\n  dt_s: 0.01\n  dt_s: 0.02\n",
+            "not valid YAML (line 4, column 3: key 'dt_s' appears twice in one mapping)",
+        ),
+    ],
+    ids=["list-at-top-level", "repeated-key"],
+)
+def test_bad_document_message(tmp_path, text, message):
+    path = tmp_path / "bad.yaml"
+    path.write_text(text, encoding="utf-8")
     with pytest.raises(UserInputError) as info:
         load_scenario(path)
-    assert str(info.value) == f"{path}: expected a mapping of scenario fields at the top level"
+    assert str(info.value) == f"{path}: {message}"
 
 
 def test_empty_yaml(tmp_path):
