@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -327,6 +328,17 @@ def test_dry_run_plans_and_checks_without_writing(tmp_path):
     speed = next(p for p in plan["parameters"] if p["name"] == "ego.cruise_speed_mps")
     assert 10.0 <= speed["drawn_min"] < speed["drawn_max"] < 18.0
     assert plan["variants_checked"] == 120  # small sweeps are checked in full
+    assert plan["correlations"] == []
     assert not (tmp_path / "out").exists()
+    pair = ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"]
+    correlated = write_spec(tmp_path, correlation=[{"between": pair, "rho": 0.8}], samples=400)
+    result = invoke("sweep", correlated, "--out", tmp_path / "out", "--dry-run")
+    assert result.exit_code == 0, result.output
+    shown = re.search(
+        r"correlation ego.cruise_speed_mps ~ vrus\[0\].top_speed_mps: rho \+0.8  drawn rank "
+        r"correlation \+(0\.\d+)",
+        result.stdout,
+    )
+    assert shown is not None and 0.7 < float(shown.group(1)) < 0.85, result.stdout
     bad = write_spec(tmp_path, parameters={"vrus[0].top_speed_mps": {"uniform": [-1.0, 2.0]}})
     assert_user_error(invoke("sweep", bad, "--dry-run"), "vrus[0].top_speed_mps")

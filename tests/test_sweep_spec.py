@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -270,3 +271,110 @@ def test_spec_file_base_is_relative_to_the_spec(tmp_path):
     from vrusim.sweep.spec import load_spec
 
     assert make_plan(load_spec(path)).variants == 1
+
+
+# -------------------------------------------------------------------------------------------- correlation
+
+CORRELATED = {
+    "ego.cruise_speed_mps": {"uniform": [10, 20]},
+    "vrus[0].top_speed_mps": {"truncated_normal": {"mean": 1.5, "std": 0.5, "low": 1.0, "high": 3.0}},
+    "vrus[0].trigger.at_time_s": {"normal": [2.0, 0.3]},
+    "v2x.channel": {"choice": {"values": ["ideal", "lossy"], "weights": [3, 1]}},
+    "v2x.channel.latency_s": {"uniform": [0.0, 1.0]},
+}
+
+
+def _normal_scores(column: np.ndarray) -> np.ndarray:
+    """Φ⁻¹ of the ranks: undoes any monotone marginal transform, leaving the copula's normals."""
+    from scipy.special import ndtri
+
+    ranks = np.argsort(np.argsort(column)) + 1
+    return ndtri(ranks / (column.size + 1))
+
+
+def test_correlated_draws_keep_their_marginals_and_get_the_correlation():
+    n = 40_000
+    correlation = [
+        {"between": ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"], "rho": 0.6},
+        {"between": ["vrus[0].trigger.at_time_s", "ego.cruise_speed_mps"], "rho": -0.4},
+        {"between": ["v2x.channel", "vrus[0].trigger.at_time_s"], "rho": 0.5},
+    ]
+    design = make_design(make_plan(spec(CORRELATED, samples=n, correlation=correlation)))
+    independent = make_design(make_plan(spec(CORRELATED, samples=n)))
+    speed, vru, start = (
+        design["ego.cruise_speed_mps"],
+        design["vrus[0].top_speed_mps"],
+        design["vrus[0].trigger.at_time_s"],
+    )
+    # each keeps its own distribution (the copula maps each through its inverse CDF): compare with exact quantiles
+    from scipy.special import ndtr, ndtri
+
+    q = np.linspace(0.05, 0.95, 10)
+    lo, hi = ndtr(-1.0), ndtr(3.0)  # N(1.5, 0.5) truncated to [1, 3], standardised ends
+    exact = {
+        "ego.cruise_speed_mps": 10 + 10 * q,
+        "vrus[0].top_speed_mps": 1.5 + 0.5 * ndtri(lo + q * (hi - lo)),
+        "vrus[0].trigger.at_time_s": 2.0 + 0.3 * ndtri(q),
+    }
+    for path, quantiles in exact.items():
+        np.testing.assert_allclose(np.quantile(design[path], q), quantiles, atol=0.03 * design[path].std())
+    assert speed.min() >= 10 and speed.max() < 20 and vru.min() >= 1.0 and vru.max() <= 3.0
+    assert abs(np.mean(design["v2x.channel"] == "ideal") - 0.75) < 0.01
+    # the underlying normals carry the given correlations; uncorrelated pairs stay uncorrelated
+    assert np.corrcoef(_normal_scores(speed), _normal_scores(vru))[0, 1] == pytest.approx(0.6, abs=0.02)
+    assert np.corrcoef(_normal_scores(speed), start)[0, 1] == pytest.approx(-0.4, abs=0.02)
+    assert np.corrcoef(_normal_scores(vru), start)[0, 1] == pytest.approx(0.0, abs=0.02)
+    # the choice parameter: "lossy" (the upper quarter of its uniform) goes with late starts
+    lossy = design["v2x.channel"] == "lossy"
+    assert start[lossy].mean() > start[~lossy].mean() + 0.2
+    # a parameter named in no pair keeps exactly its independent draws
+    np.testing.assert_array_equal(design["v2x.channel.latency_s"], independent["v2x.channel.latency_s"])
+
+
+def test_correlated_design_is_reproducible_and_recorded_in_the_plan():
+    from vrusim.sweep.runner import plan_from_manifest
+
+    correlation = [{"between": ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"], "rho": 0.3}]
+    plan = make_plan(spec(CORRELATED, samples=50, correlation=correlation))
+    np.testing.assert_array_equal(
+        make_design(plan)["vrus[0].top_speed_mps"], make_design(plan)["vrus[0].top_speed_mps"]
+    )
+    assert plan.describe()["correlations"] == [["ego.cruise_speed_mps", "vrus[0].top_speed_mps", 0.3]]
+    manifest = json.loads(json.dumps({"plan": plan.describe(), "plan_sha256": plan.digest()}))
+    assert plan_from_manifest(manifest) == plan
+    # without correlations the description (and so the digest of existing sweeps) has no such key
+    assert "correlations" not in make_plan(spec(CORRELATED, samples=50)).describe()
+
+
+@pytest.mark.parametrize(
+    ("correlation", "message"),
+    [
+        ([{"between": ["ego.cruise_speed_mps", "sensor.range_m"], "rho": 0.5}], "'sensor.range_m' is not a random"),
+        ([{"between": ["ego.cruise_speed_mps", "ego.cruise_speed_mps"], "rho": 0.5}], "two different parameters"),
+        (
+            [
+                {"between": ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"], "rho": 0.5},
+                {"between": ["vrus[0].top_speed_mps", "ego.cruise_speed_mps"], "rho": 0.2},
+            ],
+            "correlation[1].between: the pair ego.cruise_speed_mps, vrus[0].top_speed_mps is given twice",
+        ),
+        (
+            [{"between": ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"], "rho": 1.0}],
+            "correlation[0].rho: Input should be less than 1",
+        ),
+        ([{"between": ["ego.cruise_speed_mps"], "rho": 0.5}], "correlation[0].between[1]: Field required"),
+        (
+            [
+                {"between": ["ego.cruise_speed_mps", "vrus[0].top_speed_mps"], "rho": 0.9},
+                {"between": ["ego.cruise_speed_mps", "vrus[0].trigger.at_time_s"], "rho": 0.9},
+                {"between": ["vrus[0].top_speed_mps", "vrus[0].trigger.at_time_s"], "rho": -0.9},
+            ],
+            "cannot hold together",
+        ),
+    ],
+)
+def test_bad_correlations_name_the_entry(correlation, message):
+    parameters = {**CORRELATED, "sensor.range_m": [10.0, 20.0]}
+    with pytest.raises(UserInputError) as error:
+        spec(parameters, correlation=correlation)
+    assert message in str(error.value)

@@ -143,6 +143,10 @@ def _print_plan(plan: dict, as_json: bool) -> None:
         drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
         settings = {k: v for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
         out.print(f"  {p['name']}: {p['kind']} {settings}{drawn}", markup=False)
+    for c in plan["correlations"]:
+        ranks = c["drawn_rank_correlation"]
+        drawn = "" if ranks is None else f"  drawn rank correlation {ranks:+.3f}"
+        out.print(f"  correlation {c['between'][0]} ~ {c['between'][1]}: rho {c['rho']:+g}{drawn}", markup=False)
     out.print(f"{plan['variants_checked']} variants built and checked; nothing run or written (--dry-run).")
 
 

@@ -3,7 +3,10 @@
 Variant i sits at grid point g = i // samples and sample s = i % samples; grid dimensions (catalogue tests
 first, then grid parameters in spec order) vary slowest-first. Each random parameter draws its N values
 from its own generator, PCG64 seeded by (master seed, CRC-32 of its path), so adding or removing another
-parameter never changes its draws. Each variant's `sim.seed` (the key of its sensor and V2X random numbers)
+parameter never changes its draws. Parameters named in `correlation` are instead drawn together through a
+Gaussian copula: standard normals with the given correlation matrix (one generator keyed by their paths),
+mapped through the normal CDF to uniforms and through each parameter's inverse CDF to its own distribution;
+each keeps its marginal distribution exactly. Each variant's `sim.seed` (the key of its sensor and V2X random numbers)
 is SplitMix64 of (master seed, variant id). The design depends on the plan only, never on batch size,
 workers or scheduler.
 """
@@ -15,10 +18,11 @@ import zlib
 from typing import Any
 
 import numpy as np
+from scipy.special import ndtr, ndtri
 
 from vrusim.errors import UserInputError
 from vrusim.sweep.plan import TEST_COLUMN, SweepPlan
-from vrusim.sweep.spec import Parameter
+from vrusim.sweep.spec import Parameter, correlation_matrix
 
 MAX_REJECTION_ROUNDS = 100_000
 
@@ -82,6 +86,30 @@ def _draw(p: Parameter, seed: int, count: int) -> np.ndarray:
     return _column(list(p.values))[index]
 
 
+def _from_normal(p: Parameter, z: np.ndarray) -> np.ndarray:
+    """Standard normal draws `z` mapped onto the distribution of `p` (its inverse CDF at Φ(z))."""
+    if p.kind == "normal":
+        return p.mean + p.std * z
+    u = ndtr(z)
+    if p.kind == "uniform":
+        return np.minimum(p.low + u * (p.high - p.low), np.nextafter(p.high, p.low))  # U[low, high)
+    if p.kind == "truncated_normal":
+        lo, hi = ndtr((p.low - p.mean) / p.std), ndtr((p.high - p.mean) / p.std)
+        return np.clip(p.mean + p.std * ndtri(lo + u * (hi - lo)), p.low, p.high)
+    weights = np.asarray(p.weights) if p.weights else np.full(len(p.values), 1.0 / len(p.values))
+    index = np.minimum(np.searchsorted(np.cumsum(weights), u, side="right"), len(p.values) - 1)
+    return _column(list(p.values))[index]
+
+
+def _correlated_draws(plan: SweepPlan, count: int) -> dict[str, np.ndarray]:
+    """The columns of the correlated parameters, drawn jointly (Gaussian copula)."""
+    paths, matrix = correlation_matrix(plan.correlations, plan.parameters)
+    normals = _generator(plan.seed, "correlation:" + "|".join(paths)).standard_normal((count, len(paths)))
+    joint = normals @ np.linalg.cholesky(matrix).T
+    by_path = {p.path: p for p in plan.parameters}
+    return {path: _from_normal(by_path[path], joint[:, i]) for i, path in enumerate(paths)}
+
+
 def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
     """Columns `variant`, `seed`, optional `test`, and one per parameter (named by its path), N rows each."""
     count = plan.variants
@@ -98,9 +126,10 @@ def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
     for position, (name, values) in enumerate(dimensions):
         stride = math.prod(sizes[position + 1 :])
         columns[name] = values[(grid_index // stride) % sizes[position]]
+    correlated = _correlated_draws(plan, count) if plan.correlations else {}
     for p in plan.parameters:
         if p.is_random:
-            columns[p.path] = _draw(p, plan.seed, count)
+            columns[p.path] = correlated[p.path] if p.path in correlated else _draw(p, plan.seed, count)
     if "sim.seed" in columns:
         columns["seed"] = columns["sim.seed"].astype(np.int64)
     return columns

@@ -17,7 +17,7 @@ from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 from vrusim.sweep.field_paths import Step, check_path, with_values
-from vrusim.sweep.spec import Parameter, SweepSpec
+from vrusim.sweep.spec import Correlation, Parameter, SweepSpec
 
 TEST_COLUMN = "test"
 """Design column of a catalogue sweep: the Euro NCAP test id of each variant."""
@@ -36,6 +36,8 @@ class SweepPlan:
     samples: int
     seed: int
     batch_size: int
+    correlations: tuple[Correlation, ...] = ()
+    """Correlated pairs of random parameters (Gaussian copula); empty: all draws independent."""
 
     @property
     def tests(self) -> tuple[str, ...]:
@@ -63,8 +65,9 @@ class SweepPlan:
         return start, min(self.variants, start + self.batch_size)
 
     def describe(self) -> dict[str, Any]:
-        """JSON-ready description (the manifest's `plan`)."""
-        return {
+        """JSON-ready description (the manifest's `plan`); `correlations` only when there are any, so that the
+        digests of sweeps without them stay what they were."""
+        out = {
             "name": self.name,
             "bases": self.bases,
             "parameters": [p.describe() for p in self.parameters],
@@ -72,6 +75,9 @@ class SweepPlan:
             "seed": self.seed,
             "batch_size": self.batch_size,
         }
+        if self.correlations:
+            out["correlations"] = [list(pair) for pair in self.correlations]
+        return out
 
     def digest(self) -> str:
         """SHA-256 of the description: equal digests mean equal variants in equal batches."""
@@ -122,6 +128,7 @@ def make_plan(spec: SweepSpec, batch_size: int | None = None) -> SweepPlan:
         samples=spec.samples,
         seed=spec.seed,
         batch_size=batch_size or spec.batch_size,
+        correlations=spec.correlations,
     )
 
 

@@ -90,7 +90,10 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
     """The plan recorded in a manifest (its digest checked)."""
     data = manifest["plan"]
     parameters = tuple(Parameter.from_description(p) for p in data["parameters"])
-    plan = SweepPlan(data["name"], data["bases"], parameters, data["samples"], data["seed"], data["batch_size"])
+    correlations = tuple((first, second, float(rho)) for first, second, rho in data.get("correlations", []))
+    plan = SweepPlan(
+        data["name"], data["bases"], parameters, data["samples"], data["seed"], data["batch_size"], correlations
+    )
     if plan.digest() != manifest.get("plan_sha256"):
         raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     return plan
@@ -120,6 +123,14 @@ def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
         if column.dtype.kind in "fi":
             entry.update(drawn_min=float(column.min()), drawn_max=float(column.max()))
         parameters.append(entry)
+    correlations = [
+        {
+            "between": [first, second],
+            "rho": rho,
+            "drawn_rank_correlation": rank_correlation(design[first], design[second]),
+        }
+        for first, second, rho in plan.correlations
+    ]
     return {
         "name": plan.name,
         "base": "catalogue" if plan.tests else str(spec.base_file),
@@ -131,8 +142,19 @@ def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
         "batches": plan.chunks,
         "seed": plan.seed,
         "parameters": parameters,
+        "correlations": correlations,
         "variants_checked": checked,
     }
+
+
+def rank_correlation(a: np.ndarray, b: np.ndarray) -> float | None:
+    """Spearman's rank correlation of two numeric columns (None when either is not numeric or is constant)."""
+    if a.dtype.kind not in "fi" or b.dtype.kind not in "fi" or a.size < 2:
+        return None
+    ranks = [np.argsort(np.argsort(column, kind="stable"), kind="stable") for column in (a, b)]
+    if any(r.std() == 0 for r in ranks):  # pragma: no cover (a single variant)
+        return None
+    return float(np.corrcoef(*ranks)[0, 1])
 
 
 def _tasks(plan: SweepPlan, design: dict[str, np.ndarray], pending: list[int]):

@@ -8,6 +8,8 @@ parameters:                                           # dotted field paths (docs
   ego.cruise_speed_mps: {uniform: [10, 20]}           # random: uniform, normal, truncated_normal, choice
   v2x.channel.latency_s: [0.0, 0.1, 0.3]              # grid: a list, {range: [a, b, step]}, {linspace: [a, b, n]}
 samples: 1000                                         # random draws per grid point
+correlation:                                          # optional: correlated random parameters
+  - {between: [ego.cruise_speed_mps, "vrus[0].top_speed_mps"], rho: 0.5}   # quote paths with [ ] in a flow list
 seed: 7
 batch_size: 2000                                      # variants per batch (= per results file)
 ```
@@ -20,6 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
@@ -44,6 +47,13 @@ class CatalogueBase(StrictModel):
     planner: str = "fsm"
 
 
+class CorrelationEntry(StrictModel):
+    """Two random parameters whose draws are correlated (Gaussian copula, see `vrusim.sweep.design`)."""
+
+    between: tuple[str, str] = Field(strict=False, description="two paths under `parameters`")
+    rho: float = Field(gt=-1, lt=1, description="correlation of the underlying standard normals")
+
+
 class SpecFile(StrictModel):
     """The YAML document as written (parameters are parsed separately into `Parameter`s)."""
 
@@ -56,6 +66,7 @@ class SpecFile(StrictModel):
     samples: int = Field(1, ge=1, le=MAX_VARIANTS)
     seed: int = Field(0, ge=0, lt=2**63)
     batch_size: int = Field(2000, ge=1, le=1_000_000)
+    correlation: list[CorrelationEntry] = Field(default_factory=list, max_length=100)
 
     @model_validator(mode="after")
     def _one_base(self) -> SpecFile:
@@ -105,6 +116,10 @@ class Parameter:
         return out
 
 
+Correlation = tuple[str, str, float]
+"""Two random parameters (paths, in spec order) and the correlation of their Gaussian copula."""
+
+
 @dataclass(frozen=True)
 class SweepSpec:
     """A validated sweep specification; base file paths resolved."""
@@ -120,6 +135,7 @@ class SweepSpec:
     batch_size: int
     source: dict[str, Any]
     """The document as written (recorded in the manifest)."""
+    correlations: tuple[Correlation, ...] = ()
 
 
 def _numbers(where: str, value: Any, count: int, what: str) -> list[float]:
@@ -233,6 +249,56 @@ def parse_parameter(path: str, value: Any) -> Parameter:
     )
 
 
+def parse_correlations(entries: list[CorrelationEntry], parameters: tuple[Parameter, ...]) -> tuple[Correlation, ...]:
+    """Check each `correlation` entry against the random parameters; the matrix must be positive definite."""
+    order = {p.path: i for i, p in enumerate(parameters) if p.is_random}
+    seen: set[frozenset[str]] = set()
+    out = []
+    for index, entry in enumerate(entries):
+        where = f"correlation[{index}].between"
+        for path in entry.between:
+            if path not in order:
+                raise UserInputError(
+                    f"{where}: {path!r} is not a random parameter (only parameters drawn from a distribution "
+                    "can be correlated; grid parameters and `set` fields cannot)"
+                )
+        first, second = sorted(entry.between, key=order.__getitem__)
+        if first == second:
+            raise UserInputError(f"{where}: expected two different parameters")
+        if frozenset((first, second)) in seen:
+            raise UserInputError(f"{where}: the pair {first}, {second} is given twice")
+        seen.add(frozenset((first, second)))
+        out.append((first, second, entry.rho))
+    correlations = tuple(out)
+    if correlations and not is_positive_definite(correlation_matrix(correlations, parameters)[1]):
+        raise UserInputError(
+            "correlation: these correlations cannot hold together (the correlation matrix is not positive definite)"
+        )
+    return correlations
+
+
+def correlation_matrix(
+    correlations: tuple[Correlation, ...], parameters: tuple[Parameter, ...]
+) -> tuple[list[str], np.ndarray]:
+    """The correlated parameters (in spec order) and their correlation matrix (1 on the diagonal, 0 unless given)."""
+    named = {path for pair in correlations for path in pair[:2]}
+    paths = [p.path for p in parameters if p.path in named]
+    matrix = np.eye(len(paths))
+    for first, second, rho in correlations:
+        i, j = paths.index(first), paths.index(second)
+        matrix[i, j] = matrix[j, i] = rho
+    return paths, matrix
+
+
+def is_positive_definite(matrix: np.ndarray) -> bool:
+    """True when the Cholesky factorisation exists."""
+    try:
+        np.linalg.cholesky(matrix)
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
 def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     """Validate a parsed YAML sweep document; relative base paths resolve against `folder`."""
     if not isinstance(data, dict):
@@ -252,6 +318,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     grid_points = math.prod(len(p.values) for p in parameters if not p.is_random)
     if grid_points * document.samples > MAX_VARIANTS:
         raise UserInputError(f"samples: {grid_points * document.samples:,} variants exceed {MAX_VARIANTS:,}")
+    correlations = parse_correlations(document.correlation, parameters)
     base_file = None if document.base is None else (folder / document.base)
     return SweepSpec(
         name=document.name or Path(source).stem,
@@ -264,6 +331,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
         seed=document.seed,
         batch_size=document.batch_size,
         source=data,
+        correlations=correlations,
     )
 
 
