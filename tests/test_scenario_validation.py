@@ -298,3 +298,52 @@ def test_paper_scenarios_load(path):
     assert len(scenario.vrus) == 1
     # the model round-trips through a plain mapping unchanged
     assert scenario_from_mapping(scenario.model_dump(mode="json")) == scenario
+
+
+def _scalar_leaves(data: Any, path: tuple = ()) -> list[tuple[tuple, Any]]:
+    """(location, value) of every number and boolean in a YAML-like mapping."""
+    if isinstance(data, dict):
+        return [leaf for key, value in data.items() for leaf in _scalar_leaves(value, (*path, key))]
+    if isinstance(data, list):
+        return [leaf for i, value in enumerate(data) for leaf in _scalar_leaves(value, (*path, i))]
+    return [(path, data)] if isinstance(data, bool | int | float) else []
+
+
+def _replaced(data: Any, location: tuple, value: Any) -> Any:
+    import copy
+
+    out = copy.deepcopy(data)
+    target = out
+    for step in location[:-1]:
+        target = target[step]
+    target[location[-1]] = value
+    return out
+
+
+@pytest.mark.parametrize("name", ["pedestrian_crossing.yaml", "escooter_leading.yaml", "motorcyclist_crossing.yaml"])
+def test_every_number_and_switch_of_a_paper_file_takes_only_its_type(name):
+    """Each number of the paper files, given as a boolean or quoted, and each switch given as 1, is refused with
+    exactly that field named (strict types everywhere, including nested models and lists). Planner parameters
+    are checked by their planner when the run starts."""
+    from vrusim.catalog.paper import scenario_dir
+    from vrusim.planners.registry import make_planner
+    from vrusim.scenario.loading import field_path
+    from vrusim.scenario.yaml_file import read_yaml_file
+    from vrusim.sim.batch import pack
+
+    data = read_yaml_file(scenario_dir() / name, "scenario")
+    leaves = _scalar_leaves(data)
+    assert len(leaves) > 20
+    for location, value in leaves:
+        wrong = [1] if isinstance(value, bool) else [True, str(value)]
+        for bad in wrong:
+            if location[:2] == ("planner", "params"):
+                scenario = scenario_from_mapping(_replaced(data, location, bad))
+                with pytest.raises(
+                    UserInputError, match=rf"{re.escape(field_path(location))}: Input should be a valid"
+                ):
+                    make_planner(scenario.planner.name).reset(pack([scenario]))
+                continue
+            path, reason = only_field(rejected(_replaced(data, location, bad)))
+            assert path == field_path(location), (location, bad)
+            assert reason.startswith("Input should be a valid"), reason
