@@ -133,6 +133,32 @@ def test_sensor_sector_is_blue_inside_and_absent_outside(pedestrian):
     assert _close(ground, style.GROUND)
 
 
+def test_sensor_sector_is_cut_where_an_obstacle_hides_the_view(scenario_dict):
+    """A parked car ahead-left casts a shadow: the blue stops at the car and resumes beside its shadow."""
+    from vrusim.scenario.loading import scenario_from_mapping
+
+    scenario_dict["obstacles"] = [
+        {"centre": {"x_m": 10.0, "y_m": 3.0, "heading_deg": 0.0}, "length_m": 4.0, "width_m": 2.0}
+    ]
+    rec = record([scenario_from_mapping(scenario_dict)])[0]
+    fig, ax, _ = _scene(rec, 0.0, box=(-10.0, 30.0, -20.0, 20.0))
+    apex = np.array([2.25, 0.0])  # front bumper of the 4.5 m ego centred at the origin
+
+    def blue(x: float, y: float) -> bool:
+        p = _pixel(fig, ax, x, y)
+        return p[2] - p[0] > 25
+
+    def along(angle_deg: float, distance_m: float) -> tuple[float, float]:
+        a = math.radians(angle_deg)
+        return tuple(apex + distance_m * np.array([math.cos(a), math.sin(a)]))
+
+    to_car = math.degrees(math.atan2(3.0, 10.0 - 2.25))  # 21.2°: straight at the car's centre
+    assert blue(*along(to_car, 5.0))  # between the bumper and the car
+    assert not blue(*along(to_car, 14.0)) and not blue(*along(to_car, 18.0))  # in its shadow
+    assert blue(*along(-to_car, 14.0)) and blue(*along(-to_car, 18.0))  # the mirror direction is clear
+    assert blue(*along(45.0, 14.0))  # past the shadow's far edge (the car spans 12°–35° from the apex)
+
+
 def test_ego_rectangle_and_vru_circle_at_their_positions(pedestrian):
     rec = pedestrian[0]
     fig, ax, i = _scene(rec, 1.0, box=(-40.0, 25.0, -15.0, 10.0))

@@ -2,7 +2,7 @@
 
 Road and lane markings, obstruction vehicles, the roadside unit with its V2X ranges (V2X enabled only), planned
 ego route and VRU paths (dashed), travelled trajectories up to t, the sensor sector (blue, translucent, apex at
-the centre of the leading bumper), the ego rectangle with a heading mark, VRU circles at their footprint radius
+the centre of the leading bumper, cut where obstacles block the line of sight), the ego rectangle with a heading mark, VRU circles at their footprint radius
 (ring: perceived by the sensor, blue; by V2X, purple dashed), an impact star and a time label.
 
 `SceneArtists` builds every artist once; `update(index)` moves the moving ones to a trace sample, so an
@@ -19,7 +19,7 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Circle, Patch, Polygon, Rectangle, Wedge
+from matplotlib.patches import Circle, Patch, Polygon, Rectangle
 
 from vrusim.scenario.schema import Road, Scenario
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X
@@ -152,6 +152,53 @@ def _rectangle_xy(cx: float, cy: float, hx: float, hy: float, length_m: float, w
     return np.array([c - u - v, c + u - v, c + u + v, c - u + v])
 
 
+SECTOR_RAY_STEP_DEG = 0.5
+"""Angular spacing of the rays that outline the drawn sensor field of view, degrees."""
+
+
+def _box_frames(scenario: Scenario) -> np.ndarray:
+    """Each obstacle as (centre x, centre y, heading x, heading y, half length, half width), [M, 6]."""
+    rows = []
+    for box in scenario.obstacles:
+        heading = math.radians(box.centre.heading_deg)
+        rows.append(
+            (box.centre.x_m, box.centre.y_m, math.cos(heading), math.sin(heading), box.length_m / 2, box.width_m / 2)
+        )
+    return np.array(rows, dtype=float).reshape(-1, 6)
+
+
+def _ray_box_distances(apex: np.ndarray, directions: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """Distance along each unit ray [N, 2] from `apex` to where it first meets the closed box (inf: misses)."""
+    cx, cy, hx, hy, half_length, half_width = box
+    dx, dy = apex[0] - cx, apex[1] - cy
+    origin = np.array([dx * hx + dy * hy, dy * hx - dx * hy])  # apex in the box frame
+    local = np.stack([directions @ np.array([hx, hy]), directions @ np.array([-hy, hx])], axis=1)
+    half = np.array([half_length, half_width])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1, t2 = (-half - origin) / local, (half - origin) / local
+    inside_slab = np.abs(origin) <= half  # a ray parallel to a slab is inside it for all t, or never
+    near = np.where(local == 0, np.where(inside_slab, -np.inf, np.inf), np.minimum(t1, t2))
+    far = np.where(local == 0, np.where(inside_slab, np.inf, -np.inf), np.maximum(t1, t2))
+    enter, leave = near.max(axis=1), far.min(axis=1)
+    hit = (leave >= enter) & (leave >= 0)
+    return np.where(hit, np.maximum(enter, 0.0), np.inf)
+
+
+def visible_sector_xy(
+    apex: np.ndarray, heading_deg: float, fov_deg: float, range_m: float, boxes: np.ndarray
+) -> np.ndarray:
+    """Outline [N, 2] of the part of the sensor sector the apex sees: rays every `SECTOR_RAY_STEP_DEG`, each
+    cut where it first meets an obstacle (as the sensor's line-of-sight model, `vrusim.sim.occlusion`)."""
+    count = max(2, math.ceil(fov_deg / SECTOR_RAY_STEP_DEG) + 1)
+    angles = np.radians(heading_deg + np.linspace(-fov_deg / 2, fov_deg / 2, count))
+    directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    reach = np.full(count, float(range_m))
+    for box in boxes:
+        reach = np.minimum(reach, _ray_box_distances(apex, directions, box))
+    points = apex + directions * reach[:, None]
+    return points if fov_deg >= 360 else np.vstack([apex, points])
+
+
 def _draw_obstacles(ax: Axes, scenario: Scenario) -> None:
     for box in scenario.obstacles:
         heading = math.radians(box.centre.heading_deg)
@@ -219,8 +266,9 @@ class SceneArtists:
             ax.plot([], [], color=style.vru_colour(v.type), lw=1.6, alpha=0.9, zorder=_Z_PATH)[0] for v in scenario.vrus
         ]
         sensor = scenario.sensor
-        self.sector = Wedge(
-            (0, 0), sensor.effective_range_m, 0, 0, facecolor=style.SENSOR_FACE, edgecolor=style.SENSOR_EDGE, lw=0.8
+        self.boxes = _box_frames(scenario)
+        self.sector = Polygon(
+            np.zeros((3, 2)), closed=True, facecolor=style.SENSOR_FACE, edgecolor=style.SENSOR_EDGE, lw=0.8
         )
         self.sector.set_zorder(_Z_SECTOR)
         self.sector.set_visible(sensor.enabled)
@@ -286,11 +334,9 @@ class SceneArtists:
                 front - nose_depth * ahead - 0.3 * width * side,
             ]
         )
+        sensor = scenario.sensor
         heading_deg = math.degrees(math.atan2(hy, hx))
-        half_fov = scenario.sensor.fov_deg / 2
-        self.sector.set_center(tuple(front))
-        self.sector.set_theta1(heading_deg - half_fov)
-        self.sector.set_theta2(heading_deg + half_fov)
+        self.sector.set_xy(visible_sector_xy(front, heading_deg, sensor.fov_deg, sensor.effective_range_m, self.boxes))
         self.ego_track.set_data(trace["ego_x_m"][: index + 1], trace["ego_y_m"][: index + 1])
         for k in range(self.n_vrus):
             x, y = float(trace["vru_x_m"][index, k]), float(trace["vru_y_m"][index, k])
