@@ -351,6 +351,8 @@ def paper(
     parts = ", ".join(f"{ok}/{total} {name}" for name, (ok, total) in counts.items())
     colour = "green" if all_match else "yellow"
     console.print(f"[{colour}]Matches: {parts}.[/]")
+    if not all_match:
+        console.print('Where and why we differ from the paper: docs/paper.md, section "Where we differ, and why".')
 
 
 register_catalogue_commands(app)

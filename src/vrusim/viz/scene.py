@@ -2,8 +2,9 @@
 
 Road and lane markings, obstruction vehicles, the roadside unit with its V2X ranges (V2X enabled only), planned
 ego route and VRU paths (dashed), travelled trajectories up to t, the sensor sector (blue, translucent, apex at
-the centre of the leading bumper, cut where obstacles block the line of sight), the ego rectangle with a heading mark, VRU circles at their footprint radius
-(ring: perceived by the sensor, blue; by V2X, purple dashed), an impact star and a time label.
+the centre of the leading bumper, cut where obstacles block the line of sight), the ego rectangle with a
+heading mark, VRU circles at their footprint radius (ring: perceived by the sensor, blue; by V2X, purple
+dashed), an impact star and a time label.
 
 `SceneArtists` builds every artist once; `update(index)` moves the moving ones to a trace sample, so an
 animation redraws without rebuilding. World frame, metres, equal aspect.
