@@ -66,6 +66,34 @@ def test_run_json_is_one_document():
     assert result.stderr == ""
 
 
+def test_run_takes_one_catalogue_test_id():
+    """`vrusim run TEST-ID` builds the test as `vrusim ncap` does (FSM; --v2x on adds its roadside unit)."""
+    from vrusim.catalog.ncap import run_tests, select
+    from vrusim.metrics.summary import summary_rows
+
+    test_id = "CPNA-25/20kph/day"
+    for switch, v2x in (("off", False), ("on", True)):
+        result = invoke("run", test_id, "--v2x", switch, "--json")
+        assert result.exit_code == 0, result.output
+        row = json.loads(result.stdout)
+        assert (row["scenario"], row["v2x"], row["planner"]) == (test_id, v2x, "fsm")
+        test = next(t for t in select(["CPNA-25"], night=False) if t.test_id == test_id)
+        expected = summary_rows(run_tests([test], v2x=v2x).run)[0]
+        assert (row["outcome"], row["min_clearance_m"]) == (expected["outcome"], expected["min_clearance_m"])
+
+
+@pytest.mark.parametrize(
+    ("source", "message"),
+    [
+        ("CPNA-25", "SOURCE: 'CPNA-25' selects"),  # a code: many tests
+        ("CPNX-25/20kph/day", "did you mean CPNA-25/20kph/day"),
+        ("missing.yaml", "missing.yaml: no such scenario file"),
+    ],
+)
+def test_run_source_errors(source, message):
+    assert_user_error(invoke("run", source), message)
+
+
 def test_run_json_pipes_into_json_tool():
     command = f"{sys.executable} -m vrusim run {PEDESTRIAN} --v2x off --json | {sys.executable} -m json.tool"
     done = subprocess.run(command, shell=True, capture_output=True, text=True, check=False)

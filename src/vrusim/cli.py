@@ -92,6 +92,25 @@ def _apply_v2x(scenario, switch: V2XSwitch, file: Path):
         raise UserInputError(describe_validation_error(error, f"{file} with --v2x {switch.value}")) from None
 
 
+def _run_scenario(source: str, v2x: V2XSwitch | None):
+    """The one scenario `vrusim run` simulates: a file (V2X as in it unless forced) or one catalogue test (FSM
+    planner; with `--v2x on` the catalogue's roadside unit)."""
+    from vrusim.catalog.ncap_build import build_test
+    from vrusim.cli_sources import catalogue_tests, is_scenario_file
+    from vrusim.scenario.loading import load_scenario
+
+    if is_scenario_file(source):
+        scenario = load_scenario(Path(source))
+        return scenario if v2x is None else _apply_v2x(scenario, v2x, Path(source))
+    tests = catalogue_tests(source, night=True)
+    if len(tests) > 1:
+        raise UserInputError(
+            f"SOURCE: {source!r} selects {len(tests)} catalogue tests; `vrusim run` runs one test id, e.g. "
+            f"{tests[0].test_id} (`vrusim ncap --scenario {source}` runs them all)"
+        )
+    return build_test(tests[0], v2x=v2x is V2XSwitch.on).scenario
+
+
 def _summary_table(row: dict) -> Table:
     title = f"{escape(row['scenario'])}  ·  V2X {_on_off(row['v2x'])}  ·  planner {escape(row['planner'])}"
     table = Table(title=title, show_header=False, box=box.SIMPLE_HEAD, title_justify="left")
@@ -142,10 +161,21 @@ def _summary_table(row: dict) -> Table:
 
 @app.command()
 def run(
-    file: Annotated[Path, typer.Argument(metavar="FILE.yaml", help="Scenario YAML file.", show_default=False)],
+    source: Annotated[
+        str,
+        typer.Argument(
+            metavar="FILE.yaml|TEST-ID",
+            help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
+            show_default=False,
+        ),
+    ],
     v2x: Annotated[
         V2XSwitch | None,
-        typer.Option("--v2x", case_sensitive=False, help="Force V2X on or off (default: as in the file)."),
+        typer.Option(
+            "--v2x",
+            case_sensitive=False,
+            help="Force V2X on or off (default: as in the file; off for a catalogue test).",
+        ),
     ] = None,
     as_json: Annotated[
         bool, typer.Option("--json", help="Print the summary as one JSON document and nothing else.")
@@ -178,10 +208,9 @@ def run(
         ),
     ] = None,
 ) -> None:
-    """Simulate one scenario file and print its summary."""
+    """Simulate one scenario (a YAML file or a catalogue test) and print its summary."""
     with user_errors():
         from vrusim.metrics.summary import summary_rows
-        from vrusim.scenario.loading import load_scenario
         from vrusim.sim.engine import simulate
         from vrusim.trace_io import check_trace_path, write_trace
 
@@ -191,9 +220,7 @@ def run(
             except UserInputError as error:
                 raise UserInputError(f"--trace: {error}") from None
         check_run_outputs(plot, animate)
-        scenario = load_scenario(file)
-        if v2x is not None:
-            scenario = _apply_v2x(scenario, v2x, file)
+        scenario = _run_scenario(source, v2x)
         pictures = plot is not None or animate is not None
         result = simulate([scenario], trace=trace is not None or pictures)
         row = summary_rows(result)[0]

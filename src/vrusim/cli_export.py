@@ -6,7 +6,6 @@ SOURCE is a scenario YAML file, a catalogue test id (`CPNA-25/20kph/day`), a cat
 
 from __future__ import annotations
 
-import difflib
 from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -14,13 +13,13 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.markup import escape
 
+from vrusim.cli_sources import resolve_source
 from vrusim.cli_support import console, user_errors
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
     from vrusim.scenario.schema import Scenario
 
-YAML_SUFFIXES = (".yaml", ".yml")
 LISTED_FILES = 6
 """Written files are listed one per line up to this many; more are summarised."""
 
@@ -30,50 +29,6 @@ class ExportFormat(StrEnum):
 
     openscenario = "openscenario"
     commonroad = "commonroad"
-
-
-def _catalogue_ids(night: bool) -> list[str]:
-    from vrusim.catalog.ncap import select
-
-    return [test.test_id for test in select(night=night)]
-
-
-def catalogue_scenarios(source: str, night: bool) -> list[Scenario]:
-    """The catalogue tests SOURCE names (a test id, a code or prefix, or `all`) as Scenarios."""
-    from vrusim.catalog.ncap import select
-    from vrusim.catalog.ncap_build import build_test
-
-    wanted = source.strip()
-    if wanted.lower() == "all":
-        tests = select(night=night)
-    elif "/" in wanted:
-        tests = [t for t in select([wanted.split("/")[0]], night=True) if t.test_id.lower() == wanted.lower()]
-    else:
-        tests = select([wanted], night=night)
-    if not tests:
-        raise UserInputError(f"SOURCE: {source!r} selects no catalogue test")
-    return [build_test(test).scenario for test in tests]
-
-
-def resolve_source(source: str, night: bool) -> list[Scenario]:
-    """The scenarios SOURCE names: one YAML file, or catalogue tests; an unknown name suggests close ids."""
-    from vrusim.scenario.loading import load_scenario
-
-    path = Path(source)
-    if path.suffix.lower() in YAML_SUFFIXES or path.exists():
-        if path.is_dir():
-            raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")
-        return [load_scenario(path)]
-    try:
-        return catalogue_scenarios(source, night)
-    except UserInputError:
-        ids = _catalogue_ids(night=True)
-        codes = sorted({test_id.split("/")[0] for test_id in ids})
-        close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
-        hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
-        raise UserInputError(
-            f"SOURCE: {source!r} is neither a scenario file nor a catalogue test id, code or 'all'{hint}"
-        ) from None
 
 
 def _check_out(out: Path) -> None:

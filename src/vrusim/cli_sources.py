@@ -1,0 +1,62 @@
+"""What a SOURCE argument names: one scenario YAML file, or Euro NCAP catalogue tests.
+
+A catalogue SOURCE is a test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus
+night with `night`) or `all`. An unknown name is a user error that suggests close ids.
+"""
+
+from __future__ import annotations
+
+import difflib
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from vrusim.errors import UserInputError
+
+if TYPE_CHECKING:
+    from vrusim.catalog.ncap_build import NcapTest
+    from vrusim.scenario.schema import Scenario
+
+YAML_SUFFIXES = (".yaml", ".yml")
+
+
+def is_scenario_file(source: str) -> bool:
+    """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
+    path = Path(source)
+    if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
+        return False
+    if path.is_dir():
+        raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")
+    return True
+
+
+def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
+    """The catalogue tests SOURCE names; none is a user error with close ids as a hint."""
+    from vrusim.catalog.ncap import select
+
+    wanted = source.strip()
+    try:
+        if wanted.lower() == "all":
+            tests = select(night=night)
+        elif "/" in wanted:
+            tests = [t for t in select([wanted.split("/")[0]], night=True) if t.test_id.lower() == wanted.lower()]
+        else:
+            tests = select([wanted], night=night)
+    except UserInputError:  # an unknown code: answered below with close ids
+        tests = []
+    if tests:
+        return list(tests)
+    ids = [test.test_id for test in select(night=True)]
+    codes = sorted({test_id.split("/")[0] for test_id in ids})
+    close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
+    hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
+    raise UserInputError(f"SOURCE: {source!r} is neither a scenario file nor a catalogue test id, code or 'all'{hint}")
+
+
+def resolve_source(source: str, night: bool) -> list[Scenario]:
+    """The scenarios SOURCE names: one YAML file, or catalogue tests (FSM planner, V2X off)."""
+    from vrusim.catalog.ncap_build import build_test
+    from vrusim.scenario.loading import load_scenario
+
+    if is_scenario_file(source):
+        return [load_scenario(Path(source))]
+    return [build_test(test).scenario for test in catalogue_tests(source, night)]
