@@ -162,3 +162,43 @@ def test_warning_flag_follows_the_stages(make_scenario):
 def test_bad_parameters_name_the_field(make_scenario, params, field, message):
     with pytest.raises(UserInputError, match=rf"planner\.params\.{field}: .*{message}"):
         simulate([stationary_target(make_scenario, 40.0, **params)])
+
+
+@pytest.mark.parametrize(("gap_m", "lead_mps", "decel_mps2"), [(20.0, 8.0, 4.0), (12.0, 5.0, 6.0), (30.0, 6.0, 1.0)])
+def test_route_ttc_of_a_braking_lead_matches_the_closed_form(gap_m, lead_mps, decel_mps2):
+    """Ego at 10 m/s on a straight route, a lead `gap_m` ahead braking to a stop: the gap closes as
+    gap + u t - d t^2 / 2 - v t while the lead moves, as gap + u^2 / 2d - v t once it stands."""
+    from vrusim.planners.route_ttc import route_ttc
+    from vrusim.scenario.paths import Line, PathSpec, PathTable
+
+    table = PathTable([PathSpec(0.0, 0.0, 0.0, (Line(500.0),))])
+    half_length, half_width, rear_to_centre = 2.25, 0.9, 0.9  # rear axle at 0: the front bumper at 3.15 m
+    x = 3.15 + gap_m + RADIUS
+    u, d, v = lead_mps, decel_mps2, SPEED
+    stop_s = u / d
+    moving = np.roots([0.5 * d, v - u, -gap_m])  # contact while the lead still moves, if before it stops
+    moving = [t for t in moving.real if 0 <= t <= stop_s]
+    expected = min(moving) if moving else (gap_m + u * u / (2 * d)) / v
+    got = route_ttc(table.arrays, 0, 0.0, v, rear_to_centre, half_length, half_width, x, 0.0, u, 0.0, d, RADIUS, 10.0)
+    assert got == pytest.approx(expected, abs=2e-3)  # linear interpolation between 0.05 s samples
+    constant = route_ttc(
+        table.arrays, 0, 0.0, v, rear_to_centre, half_length, half_width, x, 0.0, u, 0.0, 0.0, RADIUS, 10.0
+    )
+    assert constant == pytest.approx(gap_m / (v - u), abs=1e-6)  # without braking: gap / closing speed
+    assert got < constant
+
+
+def test_a_braking_lead_is_seen_before_it_has_slowed(make_scenario):
+    """Euro NCAP CMRb at 80 km/h: predicting the motorcycle's braking avoids the impact that a constant-velocity
+    TTC (`predict_braking: false`) reacts to too late."""
+    from vrusim.catalog.ncap import select
+    from vrusim.catalog.ncap_build import build_test
+
+    test = next(t for t in select(["CMRb"]) if t.cell.vut_speed_kph == 80)
+    base = build_test(test, "aeb").scenario
+    runs = []
+    for predict in (True, False):
+        planner = base.planner.model_copy(update={"params": {"predict_braking": predict}})
+        runs.append(base.model_copy(update={"planner": planner}))
+    predicting, constant = simulate(runs).metrics.collided
+    assert not predicting and constant

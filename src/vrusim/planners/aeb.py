@@ -16,6 +16,8 @@ a VRU is still in the path, through to a standstill if need be, and the ego resu
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange
 from pydantic import Field, ValidationInfo, field_validator
@@ -45,6 +47,7 @@ class AebParams(StrictModel):
     cruise_decel_mps2: float = Field(2.0, gt=0, description="lower bound of the cruise speed-keeping command")
     cruise_gain_per_s: float = Field(0.8, gt=0)
     track_memory_s: float = Field(1.0, ge=0, description="how long a lost VRU is still considered, s")
+    predict_braking: bool = Field(True, description="a VRU that decelerates is predicted to brake to a stop")
 
     @field_validator("partial_ttc_s")
     @classmethod
@@ -83,6 +86,7 @@ PARAM_ORDER = tuple(AebParams.model_fields)
     _CRUISE_DECEL,
     _CRUISE_GAIN,
     _MEMORY,
+    _PREDICT_BRAKING,
 ) = range(len(PARAM_ORDER))
 
 
@@ -135,6 +139,15 @@ class AebPlanner:
 
 
 @njit(cache=True, inline="always")
+def braking_decel(vx, vy, ax, ay):  # pragma: no cover (compiled)
+    """Deceleration along the VRU's velocity, m/s^2 (0 when it is not slowing down or stands still)."""
+    speed = math.sqrt(vx * vx + vy * vy)
+    if speed <= 0.0:
+        return 0.0
+    return max(-(ax * vx + ay * vy) / speed, 0.0)
+
+
+@njit(cache=True, inline="always")
 def stage_of(ttc, p):  # pragma: no cover (compiled)
     """The stage a TTC (s) calls for under parameter row `p`."""
     if ttc <= p[_FULL_TTC]:
@@ -173,14 +186,15 @@ def _aeb_step(
         horizon = p[b, _WARN_TTC] + p[b, _HYSTERESIS]  # longer TTCs call for no stage
         ttc, ttc_resume = np.inf, np.inf
         for k in range(K):
-            known, x, y, vx, vy, _, _ = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
+            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
             if not known:
                 continue
+            decel = braking_decel(vx, vy, ax, ay) if p[b, _PREDICT_BRAKING] > 0.5 else 0.0
             ttc = min(
                 ttc,
                 route_ttc(
                     path, offsets[b], rear_station[b], v, rear_to_centre[b], half_length[b], half_width[b],
-                    x, y, vx, vy, radius[b, k], horizon,
+                    x, y, vx, vy, decel, radius[b, k], horizon,
                 ),
             )  # fmt: skip
             if mode[b] != CRUISE and resume > v:
@@ -188,7 +202,7 @@ def _aeb_step(
                     ttc_resume,
                     route_ttc(
                         path, offsets[b], rear_station[b], resume, rear_to_centre[b], half_length[b], half_width[b],
-                        x, y, vx, vy, radius[b, k], horizon,
+                        x, y, vx, vy, decel, radius[b, k], horizon,
                     ),
                 )  # fmt: skip
         ttc_resume = min(ttc_resume, ttc)

@@ -231,7 +231,7 @@ def _predictive_step(
                 ttc,
                 route_ttc(
                     route, offsets[b], front_station[b] - rear_to_front[b], v, rear_to_centre[b],
-                    0.5 * ego_length[b], half_width[b], x, y, vx, vy, r, p[b, _EMERGENCY_TTC],
+                    0.5 * ego_length[b], half_width[b], x, y, vx, vy, 0.0, r, p[b, _EMERGENCY_TTC],
                 ),
             )  # fmt: skip
             v_vru = np.sqrt(vx * vx + vy * vy)
