@@ -80,3 +80,20 @@ def test_other_planners_run_with_their_defaults():
     assert result.exit_code == 0, result.output
     rows = {r["planner"]: r for r in json.loads(result.stdout)}
     assert rows["aeb"]["collisions"] == rows["predictive"]["collisions"] == 0
+
+
+def test_compare_takes_a_catalogue_test_id_with_its_roadside_unit():
+    """A catalogue test compares like a file; its roadside unit makes the V2X settings possible."""
+
+    result = invoke("compare", "CMRb/80kph/day", "--planners", "fsm,aeb", "--v2x", "off,ideal", "--json")
+    assert result.exit_code == 0, result.output
+    rows = json.loads(result.stdout)
+    assert [(r["planner"], r["v2x"]) for r in rows] == [
+        ("fsm", "off"),
+        ("fsm", "ideal"),
+        ("aeb", "off"),
+        ("aeb", "ideal"),
+    ]
+    assert all(r["collisions"] == 0 for r in rows)
+    v2x_message = {r["v2x"]: r["mean_first_v2x_message_s"] for r in rows if r["planner"] == "fsm"}
+    assert v2x_message["off"] is None and v2x_message["ideal"] is not None

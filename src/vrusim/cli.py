@@ -95,20 +95,12 @@ def _apply_v2x(scenario, switch: V2XSwitch, file: Path):
 def _run_scenario(source: str, v2x: V2XSwitch | None):
     """The one scenario `vrusim run` simulates: a file (V2X as in it unless forced) or one catalogue test (FSM
     planner; with `--v2x on` the catalogue's roadside unit)."""
-    from vrusim.catalog.ncap_build import build_test
-    from vrusim.cli_sources import catalogue_tests, is_scenario_file
-    from vrusim.scenario.loading import load_scenario
+    from vrusim.cli_sources import is_scenario_file, single_source
 
-    if is_scenario_file(source):
-        scenario = load_scenario(Path(source))
-        return scenario if v2x is None else _apply_v2x(scenario, v2x, Path(source))
-    tests = catalogue_tests(source, night=True)
-    if len(tests) > 1:
-        raise UserInputError(
-            f"SOURCE: {source!r} selects {len(tests)} catalogue tests; `vrusim run` runs one test id, e.g. "
-            f"{tests[0].test_id} (`vrusim ncap --scenario {source}` runs them all)"
-        )
-    return build_test(tests[0], v2x=v2x is V2XSwitch.on).scenario
+    scenario = single_source(source, catalogue_v2x=v2x is V2XSwitch.on)
+    if v2x is None or not is_scenario_file(source):
+        return scenario
+    return _apply_v2x(scenario, v2x, Path(source))
 
 
 def _summary_table(row: dict) -> Table:

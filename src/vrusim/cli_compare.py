@@ -1,4 +1,4 @@
-"""`vrusim compare`: planners × V2X settings on one scenario file, side by side."""
+"""`vrusim compare`: planners × V2X settings on one scenario (a YAML file or a catalogue test), side by side."""
 
 from __future__ import annotations
 
@@ -26,7 +26,14 @@ def _num(value: float | None, digits: int = 2) -> str:
 
 
 def compare_command(
-    file: Annotated[Path, typer.Argument(metavar="FILE.yaml", help="Scenario YAML file.", show_default=False)],
+    source: Annotated[
+        str,
+        typer.Argument(
+            metavar="FILE.yaml|TEST-ID",
+            help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
+            show_default=False,
+        ),
+    ],
     planners: Annotated[str, typer.Option("--planners", help="Comma-separated planners.")] = "fsm",
     v2x: Annotated[
         str, typer.Option("--v2x", help="Comma-separated V2X settings: 'off' or a channel profile name.")
@@ -39,10 +46,10 @@ def compare_command(
 ) -> None:
     """Run every planner with every V2X setting on one scenario and compare outcomes and scores."""
     with user_errors():
+        from vrusim.cli_sources import single_source
         from vrusim.compare import compare
-        from vrusim.scenario.loading import load_scenario
 
-        base = load_scenario(file)
+        base = single_source(source, catalogue_v2x=True)  # a catalogue test brings its roadside unit
         channels = _user_channels(profiles) if profiles is not None else None
         rows = compare(base, _names("--planners", planners), _names("--v2x", v2x), seeds, channels)
     if as_json:

@@ -60,3 +60,20 @@ def resolve_source(source: str, night: bool) -> list[Scenario]:
     if is_scenario_file(source):
         return [load_scenario(Path(source))]
     return [build_test(test).scenario for test in catalogue_tests(source, night)]
+
+
+def single_source(source: str, catalogue_v2x: bool) -> Scenario:
+    """The one scenario SOURCE names: a YAML file, or one catalogue test id (FSM planner; with `catalogue_v2x`
+    the catalogue's roadside unit, switched on). A code that selects several tests is a user error."""
+    from vrusim.catalog.ncap_build import build_test
+    from vrusim.scenario.loading import load_scenario
+
+    if is_scenario_file(source):
+        return load_scenario(Path(source))
+    tests = catalogue_tests(source, night=True)
+    if len(tests) > 1:
+        raise UserInputError(
+            f"SOURCE: {source!r} selects {len(tests)} catalogue tests; give one test id, e.g. {tests[0].test_id} "
+            f"(`vrusim ncap --scenario {source}` runs them all)"
+        )
+    return build_test(tests[0], v2x=catalogue_v2x).scenario
