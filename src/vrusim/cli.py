@@ -30,6 +30,7 @@ from vrusim.cli_figures import check_figures_dir, check_run_outputs, write_paper
 from vrusim.cli_ncap import register as register_catalogue_commands
 from vrusim.cli_report import register as register_report_command
 from vrusim.cli_report import write_report_option
+from vrusim.cli_sources import OneSource
 from vrusim.cli_summarize import register as register_summarize_command
 from vrusim.cli_support import USER_ERROR_EXIT_CODE, V2XSwitch, print_json, report_user_error, user_errors
 from vrusim.cli_support import console as _console
@@ -153,14 +154,7 @@ def _summary_table(row: dict) -> Table:
 
 @app.command()
 def run(
-    source: Annotated[
-        str,
-        typer.Argument(
-            metavar="FILE.yaml|TEST-ID",
-            help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
-            show_default=False,
-        ),
-    ],
+    source: OneSource,
     v2x: Annotated[
         V2XSwitch | None,
         typer.Option(

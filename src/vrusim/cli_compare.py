@@ -9,6 +9,7 @@ import typer
 from rich import box
 from rich.table import Table
 
+from vrusim.cli_sources import OneSource
 from vrusim.cli_support import console, print_json, user_errors
 
 
@@ -26,14 +27,7 @@ def _num(value: float | None, digits: int = 2) -> str:
 
 
 def compare_command(
-    source: Annotated[
-        str,
-        typer.Argument(
-            metavar="FILE.yaml|TEST-ID",
-            help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
-            show_default=False,
-        ),
-    ],
+    source: OneSource,
     planners: Annotated[str, typer.Option("--planners", help="Comma-separated planners.")] = "fsm",
     v2x: Annotated[
         str, typer.Option("--v2x", help="Comma-separated V2X settings: 'off' or a channel profile name.")

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import difflib
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
+
+import typer
 
 from vrusim.errors import UserInputError
 
@@ -17,6 +19,16 @@ if TYPE_CHECKING:
     from vrusim.scenario.schema import Scenario
 
 YAML_SUFFIXES = (".yaml", ".yml")
+
+OneSource = Annotated[
+    str,
+    typer.Argument(
+        metavar="FILE.yaml|TEST-ID",
+        help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
+        show_default=False,
+    ),
+]
+"""The SOURCE argument of commands that take one scenario (`single_source`)."""
 
 
 def is_scenario_file(source: str) -> bool:
