@@ -163,6 +163,8 @@ def _leftovers(folder: Path) -> list[str]:
         (["report", "paper", "--out", "{tmp}/notes.txt/r.html"], ["--out", "does not exist"]),
         (["report", "paper", "--out", "{tmp}/folder.html"], ["--out", "is a folder"]),
         (["report", "paper", "--out", "{tmp}/r.html", "--v2x", "on"], ["--v2x", "scenario file"]),
+        (["report", "CPNCO", "--out", "{tmp}/r.html"], ["SOURCE", "selects 22 catalogue tests"]),
+        (["report", "CPNX-50/10kph/day", "--out", "{tmp}/r.html"], ["SOURCE", "did you mean CPNCO-50/10kph/day"]),
         (["report", "{tmp}/bad.yaml", "--out", "{tmp}/r.html"], ["bad.yaml", "ego"]),
         (["paper", "--report", "{tmp}/r.txt"], ["--report", ".html"]),
         (["ncap", "--scenario", "CPNA-25", "--report", "{tmp}/no/r.html"], ["--report", "does not exist"]),
@@ -176,6 +178,16 @@ def test_bad_input_exits_2_and_writes_nothing(tmp_path, args, names):
     before = _leftovers(tmp_path)
     assert_user_error(invoke(*(a.replace("{tmp}", str(tmp_path)) for a in args)), *names)
     assert _leftovers(tmp_path) == before
+
+
+def test_run_report_of_a_catalogue_test_id(tmp_path):
+    """A Euro NCAP test id reports like a scenario file; its row is the one `vrusim run TEST-ID` prints."""
+    out = tmp_path / "r.html"
+    result = invoke("report", "CPNCO-50/30kph/day", "--v2x", "on", "--out", out)
+    assert result.exit_code == 0, result.output
+    results = json.loads(read_report(out.read_text(encoding="utf-8")).results_text)
+    row = json.loads(invoke("run", "CPNCO-50/30kph/day", "--v2x", "on", "--json").stdout)
+    assert results["kind"] == "run" and results["source"] == "CPNCO-50/30kph/day" and results["row"] == row
 
 
 def test_a_failed_build_keeps_the_old_report(tmp_path):

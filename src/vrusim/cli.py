@@ -30,9 +30,8 @@ from vrusim.cli_figures import check_figures_dir, check_run_outputs, write_paper
 from vrusim.cli_ncap import register as register_catalogue_commands
 from vrusim.cli_report import register as register_report_command
 from vrusim.cli_report import write_report_option
-from vrusim.cli_sources import OneSource
 from vrusim.cli_summarize import register as register_summarize_command
-from vrusim.cli_support import USER_ERROR_EXIT_CODE, V2XSwitch, print_json, report_user_error, user_errors
+from vrusim.cli_support import USER_ERROR_EXIT_CODE, OneSource, V2XSwitch, print_json, report_user_error, user_errors
 from vrusim.cli_support import console as _console
 from vrusim.cli_sweep import register as register_sweep_command
 from vrusim.errors import UserInputError
@@ -96,7 +95,7 @@ def _apply_v2x(scenario, switch: V2XSwitch, file: Path):
 def _run_scenario(source: str, v2x: V2XSwitch | None):
     """The one scenario `vrusim run` simulates: a file (V2X as in it unless forced) or one catalogue test (FSM
     planner; with `--v2x on` the catalogue's roadside unit)."""
-    from vrusim.cli_sources import is_scenario_file, single_source
+    from vrusim.catalog.sources import is_scenario_file, single_source
 
     scenario = single_source(source, catalogue_v2x=v2x is V2XSwitch.on)
     if v2x is None or not is_scenario_file(source):

@@ -9,8 +9,7 @@ import typer
 from rich import box
 from rich.table import Table
 
-from vrusim.cli_sources import OneSource
-from vrusim.cli_support import console, print_json, user_errors
+from vrusim.cli_support import OneSource, console, print_json, user_errors
 
 
 def _names(option: str, value: str) -> list[str]:
@@ -40,7 +39,7 @@ def compare_command(
 ) -> None:
     """Run every planner with every V2X setting on one scenario and compare outcomes and scores."""
     with user_errors():
-        from vrusim.cli_sources import single_source
+        from vrusim.catalog.sources import single_source
         from vrusim.compare import compare
 
         base = single_source(source, catalogue_v2x=True)  # a catalogue test brings its roadside unit

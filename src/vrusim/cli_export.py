@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.markup import escape
 
-from vrusim.cli_sources import resolve_source
+from vrusim.catalog.sources import resolve_source
 from vrusim.cli_support import console, user_errors
 from vrusim.errors import UserInputError
 

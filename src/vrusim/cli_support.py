@@ -7,7 +7,7 @@ import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from enum import StrEnum
-from typing import Any
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -15,6 +15,16 @@ from rich.console import Console
 from vrusim.errors import UserInputError
 
 USER_ERROR_EXIT_CODE = 2
+
+OneSource = Annotated[
+    str,
+    typer.Argument(
+        metavar="FILE.yaml|TEST-ID",
+        help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
+        show_default=False,
+    ),
+]
+"""The SOURCE argument of commands that take one scenario (`vrusim.catalog.sources.single_source`)."""
 """Exit code for bad user input (the same as for a bad command-line option)."""
 
 

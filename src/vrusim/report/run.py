@@ -6,6 +6,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
+from vrusim.catalog.sources import is_scenario_file, single_source
 from vrusim.errors import UserInputError
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
@@ -72,9 +73,13 @@ def figures_of(recordings: list[Recording], prefix: str, what: str) -> list[Html
     ]
 
 
-def run_report(file: Path, v2x: bool | None = None) -> Report:
-    """Simulate a scenario file (V2X forced on or off when given) with a trace and report it."""
-    scenario = _with_v2x(load_scenario(file), v2x, file)
+def run_report(source: str | Path, v2x: bool | None = None) -> Report:
+    """Simulate a scenario file or one catalogue test (V2X forced on or off when given) with a trace and report it."""
+    file = Path(source) if is_scenario_file(str(source)) else None
+    if file is not None:
+        scenario = _with_v2x(load_scenario(file), v2x, file)
+    else:  # a catalogue test: the FSM planner, its roadside unit when V2X is on
+        scenario = single_source(str(source), catalogue_v2x=bool(v2x))
     recording = record([scenario])[0]
     row = recording.summary
     outcome = "collision" if row["collided"] else "avoided"
@@ -100,5 +105,5 @@ def run_report(file: Path, v2x: bool | None = None) -> Report:
         title=f"vrusim run: {scenario.name}",
         lead=f"{scenario.name}: {outcome} (V2X {'on' if row['v2x'] else 'off'}, planner {row['planner']}).",
         sections=sections,
-        results={"source": str(file), "v2x_forced": v2x, "row": row},
+        results={"source": str(source), "v2x_forced": v2x, "row": row},
     )

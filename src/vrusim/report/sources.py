@@ -11,6 +11,7 @@ from enum import StrEnum
 from pathlib import Path
 
 from vrusim.atomic_io import write_atomically
+from vrusim.catalog.sources import single_test
 from vrusim.errors import UserInputError
 from vrusim.report.page import Report, render
 
@@ -18,7 +19,10 @@ SCENARIO_SUFFIXES = (".yaml", ".yml")
 REPORT_SUFFIXES = (".html", ".htm")
 NCAP_RESULTS = "results.parquet"
 SWEEP_MANIFEST = "manifest.json"
-EXPECTED = "a scenario .yaml file, the word 'paper', a `vrusim ncap --out` folder or a sweep results folder"
+EXPECTED = (
+    "a scenario .yaml file, a Euro NCAP test id, the word 'paper', a `vrusim ncap --out` folder or a sweep "
+    "results folder"
+)
 
 
 class SourceKind(StrEnum):
@@ -36,7 +40,10 @@ def source_kind(source: str, argument: str = "SOURCE") -> SourceKind:
         return SourceKind.paper
     path = Path(source)
     if not path.exists():
-        raise UserInputError(f"{argument}: {source} not found; expected {EXPECTED}")
+        if path.suffix.lower() in SCENARIO_SUFFIXES:
+            raise UserInputError(f"{argument}: {source} not found; expected {EXPECTED}")
+        single_test(source, EXPECTED)  # a catalogue test id, or a user error with close ids
+        return SourceKind.run
     if path.is_dir():
         if (path / SWEEP_MANIFEST).is_file():
             return SourceKind.sweep
@@ -68,7 +75,7 @@ def build_report(source: str, v2x: bool | None = None, bins: int = 10) -> Report
     """The report of SOURCE (see `source_kind`); `v2x` forces V2X for a scenario file, `bins` groups sweeps."""
     kind = source_kind(source)
     if v2x is not None and kind is not SourceKind.run:
-        raise UserInputError("--v2x: only applies to a scenario file")
+        raise UserInputError("--v2x: only applies to a scenario file or a catalogue test")
     if kind is SourceKind.paper:
         from vrusim.report.paper import paper_report
 
@@ -76,7 +83,7 @@ def build_report(source: str, v2x: bool | None = None, bins: int = 10) -> Report
     if kind is SourceKind.run:
         from vrusim.report.run import run_report
 
-        return run_report(Path(source), v2x)
+        return run_report(source, v2x)
     if kind is SourceKind.ncap:
         from vrusim.report.ncap import ncap_report_from_folder
 

@@ -8,9 +8,7 @@ from __future__ import annotations
 
 import difflib
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
-
-import typer
+from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
 
@@ -19,16 +17,6 @@ if TYPE_CHECKING:
     from vrusim.scenario.schema import Scenario
 
 YAML_SUFFIXES = (".yaml", ".yml")
-
-OneSource = Annotated[
-    str,
-    typer.Argument(
-        metavar="FILE.yaml|TEST-ID",
-        help="Scenario YAML file, or one Euro NCAP catalogue test id (`vrusim list`), e.g. CPNA-25/20kph/day.",
-        show_default=False,
-    ),
-]
-"""The SOURCE argument of commands that take one scenario (`single_source`)."""
 
 
 def is_scenario_file(source: str) -> bool:
@@ -42,26 +30,29 @@ def is_scenario_file(source: str) -> bool:
 
 
 def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
-    """The catalogue tests SOURCE names; none is a user error with close ids as a hint."""
+    """The catalogue tests SOURCE names (empty when it names none)."""
     from vrusim.catalog.ncap import select
 
     wanted = source.strip()
     try:
         if wanted.lower() == "all":
-            tests = select(night=night)
-        elif "/" in wanted:
-            tests = [t for t in select([wanted.split("/")[0]], night=True) if t.test_id.lower() == wanted.lower()]
-        else:
-            tests = select([wanted], night=night)
-    except UserInputError:  # an unknown code: answered below with close ids
-        tests = []
-    if tests:
-        return list(tests)
+            return select(night=night)
+        if "/" in wanted:
+            return [t for t in select([wanted.split("/")[0]], night=True) if t.test_id.lower() == wanted.lower()]
+        return select([wanted], night=night)
+    except UserInputError:  # an unknown code
+        return []
+
+
+def unknown_source(source: str, expected: str) -> UserInputError:
+    """The error for a SOURCE that names nothing: what was expected, and the closest catalogue ids or codes."""
+    from vrusim.catalog.ncap import select
+
     ids = [test.test_id for test in select(night=True)]
     codes = sorted({test_id.split("/")[0] for test_id in ids})
     close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
     hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
-    raise UserInputError(f"SOURCE: {source!r} is neither a scenario file nor a catalogue test id, code or 'all'{hint}")
+    return UserInputError(f"SOURCE: {source!r} is not {expected}{hint}")
 
 
 def resolve_source(source: str, night: bool) -> list[Scenario]:
@@ -71,21 +62,31 @@ def resolve_source(source: str, night: bool) -> list[Scenario]:
 
     if is_scenario_file(source):
         return [load_scenario(Path(source))]
-    return [build_test(test).scenario for test in catalogue_tests(source, night)]
+    tests = catalogue_tests(source, night)
+    if not tests:
+        raise unknown_source(source, "a scenario file, a catalogue test id, code or prefix, or 'all'")
+    return [build_test(test).scenario for test in tests]
 
 
-def single_source(source: str, catalogue_v2x: bool) -> Scenario:
-    """The one scenario SOURCE names: a YAML file, or one catalogue test id (FSM planner; with `catalogue_v2x`
-    the catalogue's roadside unit, switched on). A code that selects several tests is a user error."""
-    from vrusim.catalog.ncap_build import build_test
-    from vrusim.scenario.loading import load_scenario
-
-    if is_scenario_file(source):
-        return load_scenario(Path(source))
+def single_test(source: str, expected: str = "a scenario file or a catalogue test id") -> NcapTest:
+    """The one catalogue test SOURCE names (day or night); none, or a code that selects several, is a user error."""
     tests = catalogue_tests(source, night=True)
+    if not tests:
+        raise unknown_source(source, expected)
     if len(tests) > 1:
         raise UserInputError(
             f"SOURCE: {source!r} selects {len(tests)} catalogue tests; give one test id, e.g. {tests[0].test_id} "
             f"(`vrusim ncap --scenario {source}` runs them all)"
         )
-    return build_test(tests[0], v2x=catalogue_v2x).scenario
+    return tests[0]
+
+
+def single_source(source: str, catalogue_v2x: bool) -> Scenario:
+    """The one scenario SOURCE names: a YAML file, or one catalogue test id (FSM planner; with `catalogue_v2x`
+    the catalogue's roadside unit, switched on)."""
+    from vrusim.catalog.ncap_build import build_test
+    from vrusim.scenario.loading import load_scenario
+
+    if is_scenario_file(source):
+        return load_scenario(Path(source))
+    return build_test(single_test(source), v2x=catalogue_v2x).scenario
