@@ -44,7 +44,7 @@ def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
         return []
 
 
-def unknown_source(source: str, expected: str) -> UserInputError:
+def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> UserInputError:
     """The error for a SOURCE that names nothing: what was expected, and the closest catalogue ids or codes."""
     from vrusim.catalog.ncap import select
 
@@ -52,7 +52,7 @@ def unknown_source(source: str, expected: str) -> UserInputError:
     codes = sorted({test_id.split("/")[0] for test_id in ids})
     close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
     hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
-    return UserInputError(f"SOURCE: {source!r} is not {expected}{hint}")
+    return UserInputError(f"{argument}: {source!r} is not {expected}{hint}")
 
 
 def resolve_source(source: str, night: bool) -> list[Scenario]:
@@ -68,14 +68,17 @@ def resolve_source(source: str, night: bool) -> list[Scenario]:
     return [build_test(test).scenario for test in tests]
 
 
-def single_test(source: str, expected: str = "a scenario file or a catalogue test id") -> NcapTest:
-    """The one catalogue test SOURCE names (day or night); none, or a code that selects several, is a user error."""
+def single_test(
+    source: str, expected: str = "a scenario file or a catalogue test id", argument: str = "SOURCE"
+) -> NcapTest:
+    """The one catalogue test SOURCE names (day or night); none, or a code that selects several, is a user error
+    naming `argument`."""
     tests = catalogue_tests(source, night=True)
     if not tests:
-        raise unknown_source(source, expected)
+        raise unknown_source(source, expected, argument)
     if len(tests) > 1:
         raise UserInputError(
-            f"SOURCE: {source!r} selects {len(tests)} catalogue tests; give one test id, e.g. {tests[0].test_id} "
+            f"{argument}: {source!r} selects {len(tests)} catalogue tests; give one test id, e.g. {tests[0].test_id} "
             f"(`vrusim ncap --scenario {source}` runs them all)"
         )
     return tests[0]

@@ -46,18 +46,8 @@ def _paper(key: str) -> Scenario:
 
 def _catalogue(test_id: str) -> Scenario:
     """A Euro NCAP catalogue test by its full id, e.g. `CPNA-25/20kph/day` (built for the fsm planner)."""
-    from vrusim.catalog.ncap import select
     from vrusim.catalog.ncap_build import build_test
+    from vrusim.catalog.sources import single_test
 
-    code = test_id.split("/", 1)[0]
-    try:
-        tests = select([code], night=True)
-    except UserInputError:
-        tests = []
-    for test in tests:
-        if test.test_id.lower() == test_id.lower():
-            return build_test(test).scenario
-    examples = ", ".join(t.test_id for t in tests[:3]) or "CPNA-25/20kph/day"
-    raise UserInputError(
-        f"scenario: {test_id!r} is neither a YAML file, `paper:<case>`, nor a catalogue test id (e.g. {examples})"
-    )
+    expected = "a YAML file, `paper:<case>` or a catalogue test id"
+    return build_test(single_test(test_id, expected, argument="scenario")).scenario
