@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
@@ -303,3 +305,32 @@ def test_paper_figures_rejects_a_file_or_missing_parent(tmp_path):
     assert_user_error(invoke("paper", "--figures", afile), "--figures", "not a folder")
     assert_user_error(invoke("paper", "--figures", tmp_path / "a" / "b"), "--figures", "does not exist")
     assert _leftovers(tmp_path) == ["file.txt"]
+
+
+@given(
+    apex=st.tuples(st.floats(-20, 20), st.floats(-20, 20)),
+    centre=st.tuples(st.floats(-10, 10), st.floats(-10, 10)),
+    heading_deg=st.floats(-180, 180),
+    size=st.tuples(st.floats(0.5, 6.0), st.floats(0.5, 3.0)),
+    ray_deg=st.floats(-180, 180),
+)
+def test_ray_box_distance_matches_marching_along_the_ray(apex, centre, heading_deg, size, ray_deg):
+    """The slab test behind the drawn sensor shadow against stepping along the ray in 1 cm steps."""
+    from vrusim.viz.scene import _ray_box_distances
+
+    h = math.radians(heading_deg)
+    box = np.array([*centre, math.cos(h), math.sin(h), size[0] / 2, size[1] / 2])
+    direction = np.array([[math.cos(math.radians(ray_deg)), math.sin(math.radians(ray_deg))]])
+    got = float(_ray_box_distances(np.array(apex), direction, box)[0])
+    steps = np.arange(0.0, 60.0, 0.01)
+    points = np.array(apex) + steps[:, None] * direction[0]
+    local_x = (points[:, 0] - centre[0]) * box[2] + (points[:, 1] - centre[1]) * box[3]
+    local_y = (points[:, 1] - centre[1]) * box[2] - (points[:, 0] - centre[0]) * box[3]
+    inside = (np.abs(local_x) <= box[4]) & (np.abs(local_y) <= box[5])
+    if inside.any():  # the first sample inside lies less than one step past the entry
+        assert got <= steps[np.argmax(inside)] + 1e-9 <= got + 0.01 + 1e-9
+    elif got != math.inf:  # a graze the 1 cm steps stepped over: the entry point is on the box's outline
+        hit = np.array(apex) + got * direction[0]
+        lx = (hit[0] - centre[0]) * box[2] + (hit[1] - centre[1]) * box[3]
+        ly = (hit[1] - centre[1]) * box[2] - (hit[0] - centre[0]) * box[3]
+        assert abs(lx) <= box[4] + 1e-6 and abs(ly) <= box[5] + 1e-6
