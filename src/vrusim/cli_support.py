@@ -15,6 +15,7 @@ from rich.console import Console
 from vrusim.errors import UserInputError
 
 USER_ERROR_EXIT_CODE = 2
+"""Exit code for bad user input (the same as for a bad command-line option)."""
 
 OneSource = Annotated[
     str,
@@ -25,7 +26,6 @@ OneSource = Annotated[
     ),
 ]
 """The SOURCE argument of commands that take one scenario (`vrusim.catalog.sources.single_source`)."""
-"""Exit code for bad user input (the same as for a bad command-line option)."""
 
 
 class V2XSwitch(StrEnum):

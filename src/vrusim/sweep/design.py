@@ -6,8 +6,8 @@ from its own generator, PCG64 seeded by (master seed, CRC-32 of its path), so ad
 parameter never changes its draws. Parameters named in `correlation` are instead drawn together through a
 Gaussian copula: standard normals with the given correlation matrix (one generator keyed by their paths),
 mapped through the normal CDF to uniforms and through each parameter's inverse CDF to its own distribution;
-each keeps its marginal distribution exactly. Each variant's `sim.seed` (the key of its sensor and V2X random numbers)
-is SplitMix64 of (master seed, variant id). The design depends on the plan only, never on batch size,
+each keeps its marginal distribution exactly. Each variant's `sim.seed` (the key of its sensor and V2X random
+numbers) is SplitMix64 of (master seed, variant id). The design depends on the plan only, never on batch size,
 workers or scheduler.
 """
 

@@ -308,8 +308,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     except ValidationError as error:
         lines = [f"{source}: invalid sweep spec"]
         for item in error.errors(include_url=False):
-            message = error_message(item)
-            lines.append(f"  {field_path(item['loc'])}: {message.removeprefix('Value error, ')}")
+            lines.append(f"  {field_path(item['loc'])}: {error_message(item)}")
         raise UserInputError("\n".join(lines)) from None
     parameters = tuple(parse_parameter(str(path), value) for path, value in document.parameters.items())
     clash = sorted(set(document.set) & set(document.parameters))
