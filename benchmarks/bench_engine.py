@@ -42,8 +42,8 @@ def batch(size: int, duration_s: float):
 
 def measure(size: int, repeats: int, duration_s: float) -> dict:
     """Time `repeats` runs of one batch size; return the best figures (packing timed apart from stepping)."""
-    from vrusim.sim.batch import pack
-    from vrusim.sim.engine import simulate
+    from vrusim.engine.simulate import simulate
+    from vrusim.sim.params import pack
 
     scenarios = batch(size, duration_s)
     simulate(pack(scenarios[:1]))  # load compiled kernels from the cache before timing

@@ -17,9 +17,9 @@ import time
 
 def measure(planner: str, v2x: bool, repeats: int) -> dict:
     """Best-of-`repeats` timings of build, run and assessment for the whole day + night grid."""
-    from vrusim.catalog.ncap import run_tests, select
-    from vrusim.catalog.ncap_build import build_test
-    from vrusim.metrics.ncap import assess
+    from vrusim.ncap.assess import assess
+    from vrusim.ncap.build import build_test
+    from vrusim.ncap.grid import run_tests, select
 
     tests = select(night=True)
     run_tests(tests[:3], planner=planner, v2x=v2x)  # warm-up: compiled kernels from the cache

@@ -25,8 +25,8 @@ def _timed(action) -> float:
 
 def measure(cases: list[str], fps: float) -> list[dict]:
     """One row per (case, output): seconds, simulated duration and frame count where it applies."""
-    from vrusim.catalog.paper import paper_scenarios
-    from vrusim.cli_figures import PAPER_FIGURE_DPI
+    from vrusim.cli.figures import PAPER_FIGURE_DPI
+    from vrusim.paper.cases import paper_scenarios
     from vrusim.viz.animate import frame_times, write_animation
     from vrusim.viz.figure_io import write_figure
     from vrusim.viz.recording import record

@@ -13,9 +13,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from vrusim.catalog.paper import CASES, paper_scenarios
+from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
-from vrusim.sim.engine import simulate
+from vrusim.paper.cases import CASES, paper_scenarios
 
 OUT = Path(__file__).parent / "img" / "paper_timelines.png"
 SCORECARD = Path(__file__).parent / "img" / "ncap_scorecard_fsm.png"
@@ -87,8 +87,8 @@ def _spans(t: np.ndarray, mode: np.ndarray):
 
 def scorecard() -> None:
     """The whole catalogue, day and night, FSM planner without V2X: `vrusim ncap --night --out DIR`."""
-    from vrusim.catalog.ncap import run_tests, select
-    from vrusim.metrics.ncap import assess
+    from vrusim.ncap.assess import assess
+    from vrusim.ncap.grid import run_tests, select
     from vrusim.viz.scorecard import write_scorecard_png
 
     assessment = assess(run_tests(select(night=True), planner="fsm", v2x=False).rows)

@@ -14,9 +14,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from vrusim.catalog.paper import scenario_dir
+from vrusim.paper.cases import scenario_dir
 from vrusim.scenario.loading import load_scenario
-from vrusim.v2x_study import MAX_BURSTY_LOSS, flip, onset, sweep
+from vrusim.studies.v2x_sensitivity import MAX_BURSTY_LOSS, flip, onset, sweep
 
 OUT = Path(__file__).parent / "img" / "v2x_sensitivity.png"
 

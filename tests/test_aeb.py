@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.planners.aeb import CRUISE, FULL_BRAKE, PARTIAL_BRAKE, WARNING, AebPlanner
-from vrusim.sim.batch import pack
-from vrusim.sim.engine import simulate
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import pack
 
 SPEED = 10.0
 FRONT_X = 2.25
@@ -168,8 +168,9 @@ def test_bad_parameters_name_the_field(make_scenario, params, field, message):
 def test_route_ttc_of_a_braking_lead_matches_the_closed_form(gap_m, lead_mps, decel_mps2):
     """Ego at 10 m/s on a straight route, a lead `gap_m` ahead braking to a stop: the gap closes as
     gap + u t - d t^2 / 2 - v t while the lead moves, as gap + u^2 / 2d - v t once it stands."""
+    from vrusim.geometry.path_table import PathTable
+    from vrusim.geometry.paths import Line, PathSpec
     from vrusim.planners.route_ttc import route_ttc
-    from vrusim.scenario.paths import Line, PathSpec, PathTable
 
     table = PathTable([PathSpec(0.0, 0.0, 0.0, (Line(500.0),))])
     half_length, half_width, rear_to_centre = 2.25, 0.9, 0.9  # rear axle at 0: the front bumper at 3.15 m
@@ -191,8 +192,8 @@ def test_route_ttc_of_a_braking_lead_matches_the_closed_form(gap_m, lead_mps, de
 def test_a_braking_lead_is_seen_before_it_has_slowed(make_scenario):
     """Euro NCAP CMRb at 80 km/h: predicting the motorcycle's braking avoids the impact that a constant-velocity
     TTC (`predict_braking: false`) reacts to too late."""
-    from vrusim.catalog.ncap import select
-    from vrusim.catalog.ncap_build import build_test
+    from vrusim.ncap.build import build_test
+    from vrusim.ncap.grid import select
 
     test = next(t for t in select(["CMRb"]) if t.cell.vut_speed_kph == 80)
     base = build_test(test, "aeb").scenario

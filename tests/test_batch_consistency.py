@@ -8,10 +8,10 @@ import warnings
 import numpy as np
 import pytest
 
-from vrusim.metrics import streaming
-from vrusim.metrics.streaming import RunMetrics
+from vrusim.engine import accumulators as streaming
+from vrusim.engine.accumulators import RunMetrics
+from vrusim.engine.simulate import simulate
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.engine import simulate
 
 BATCH_SIZE = 1000
 DURATION_S = 12.0
@@ -240,7 +240,7 @@ def test_vru_trajectory_bitwise_independent_of_other_paths_in_batch():
 
 def test_parallel_kernels_match_serial(monkeypatch, variants):
     """Large batches run multi-threaded kernels: results must be bit-identical to the serial ones."""
-    from vrusim.sim import kernels
+    from vrusim import kernels
 
     subset = variants[:64]
     serial = simulate(subset)
@@ -268,7 +268,7 @@ def _imperfect(paper: dict, planner: str) -> list:
 @pytest.mark.parametrize("planner", ["fsm", "aeb", "predictive", "none"])
 def test_dropping_stopped_variants_changes_no_result(monkeypatch, paper_pedestrian_dict, planner):
     """The engine drops stopped variants from its working set: results bit-identical to stepping them all."""
-    from vrusim.sim import engine
+    from vrusim.engine import simulate as engine
 
     subset = _imperfect(paper_pedestrian_dict, planner)
     dropped = simulate(subset)

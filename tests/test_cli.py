@@ -15,9 +15,9 @@ import pytest
 import yaml
 
 from cli_helpers import assert_user_error, invoke
-from vrusim import __version__
-from vrusim.cli import main
+from vrusim.cli.main import main
 from vrusim.errors import UserInputError
+from vrusim.version import __version__
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PEDESTRIAN = REPO_ROOT / "scenarios" / "paper" / "pedestrian_crossing.yaml"
@@ -68,8 +68,8 @@ def test_run_json_is_one_document():
 
 def test_run_takes_one_catalogue_test_id():
     """`vrusim run TEST-ID` builds the test as `vrusim ncap` does (FSM; --v2x on adds its roadside unit)."""
-    from vrusim.catalog.ncap import run_tests, select
     from vrusim.metrics.summary import summary_rows
+    from vrusim.ncap.grid import run_tests, select
 
     test_id = "CPNA-25/20kph/day"
     for switch, v2x in (("off", False), ("on", True)):
@@ -180,9 +180,9 @@ def test_run_trace_missing_folder(tmp_path):
 
 
 def test_write_trace_failure_leaves_nothing(tmp_path, monkeypatch):
-    import vrusim.trace_io as trace_io
+    import vrusim.engine.trace_file as trace_io
+    from vrusim.engine.simulate import simulate
     from vrusim.scenario.loading import load_scenario
-    from vrusim.sim.engine import simulate
 
     run = simulate([load_scenario(PEDESTRIAN)], trace=True)
     out = tmp_path / "trace.parquet"
@@ -202,7 +202,7 @@ def test_write_trace_failure_leaves_nothing(tmp_path, monkeypatch):
 def test_write_trace_needs_a_trace(tmp_path):
     from types import SimpleNamespace
 
-    from vrusim.trace_io import write_trace
+    from vrusim.engine.trace_file import write_trace
 
     with pytest.raises(ValueError, match="trace=True"):
         write_trace(SimpleNamespace(trace=None), tmp_path / "unused.csv")
@@ -223,7 +223,7 @@ def test_paper_json(paper_json):
 def test_paper_tables(paper_json, monkeypatch):
     import copy
 
-    import vrusim.catalog.paper as catalog
+    import vrusim.paper.cases as catalog
 
     monkeypatch.setattr(catalog, "reproduce", lambda: copy.deepcopy(paper_json))  # reuse the fixture's run
     result = invoke("paper")
@@ -236,7 +236,7 @@ def test_paper_tables(paper_json, monkeypatch):
 
 
 def test_match_counts(paper_json):
-    from vrusim.cli import match_counts
+    from vrusim.paper.cases import match_counts
 
     counts = match_counts(paper_json)
     assert counts["outcomes"][1] == 6 and counts["events"][1] == 7 and counts["scores"][1] == 18
@@ -312,7 +312,7 @@ def test_v2x_on_without_rsu(tmp_path):
 
 
 def test_unexpected_errors_keep_their_traceback(monkeypatch):
-    import vrusim.sim.engine as engine
+    import vrusim.engine.simulate as engine
 
     def boom(*args, **kwargs):
         raise RuntimeError("a bug")
@@ -332,7 +332,7 @@ def test_version():
 
 
 def test_main_maps_user_errors_to_exit_2(monkeypatch, capsys):
-    import vrusim.cli as cli
+    import vrusim.cli.main as cli
 
     def raising(*args, **kwargs):
         raise UserInputError("somewhere.field: bad")

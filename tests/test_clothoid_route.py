@@ -12,23 +12,22 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from vrusim.catalog.ncap_build import ncap_turn_route
-from vrusim.catalog.ncap_protocol import TURN_PATHS
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
-from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.scenario.paths import (
+from vrusim.geometry.paths import (
     SAMPLE_SPACING_M,
     Arc,
     Clothoid,
     Line,
     PathSpec,
-    ego_route_spec,
     path_poses,
-    route_spec,
     sample_path,
 )
+from vrusim.ncap.build import ncap_turn_route
+from vrusim.ncap.protocol import TURN_PATHS
+from vrusim.scenario.loading import scenario_from_mapping
+from vrusim.scenario.routes import ego_route_spec, route_spec
 from vrusim.scenario.schema import Route
-from vrusim.sim.engine import simulate
 
 LENGTH, REAR_OVERHANG = 4.5, 0.9  # conftest.minimal_scenario_dict
 REAR_TO_CENTRE = LENGTH / 2 - REAR_OVERHANG

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from cli_helpers import invoke
-from vrusim.compare import wilson_interval
+from vrusim.studies.compare import wilson_interval
 
 PEDESTRIAN = Path(__file__).resolve().parents[1] / "scenarios" / "paper" / "pedestrian_crossing.yaml"
 

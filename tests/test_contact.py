@@ -1,4 +1,4 @@
-"""Tests for vrusim.sim.contact: rectangle/circle clearance, outline point, impact side and fraction."""
+"""Tests for vrusim.geometry.contact: rectangle/circle clearance, outline point, impact side and fraction."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vrusim.sim.contact import (
+from vrusim.geometry.contact import (
     IMPACT_SIDE_NAMES,
     impact_side,
     lateral_impact_fraction,

@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from vrusim.engine.simulate import simulate
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.engine import simulate
 
 LENGTH, REAR_OVERHANG = 4.5, 0.9  # as set in conftest.minimal_scenario_dict, used by every scenario below
 REAR_TO_CENTRE = LENGTH / 2 - REAR_OVERHANG

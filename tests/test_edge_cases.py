@@ -9,13 +9,13 @@ import re
 import numpy as np
 import pytest
 
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.planners.base import HoldSpeedPlanner
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.ego_dynamics import rotate
-from vrusim.sim.engine import simulate
+from vrusim.sim.ego import rotate
 
 FAST_MOTO = {
     "type": "motorcyclist",
@@ -129,7 +129,7 @@ def test_planner_cannot_change_the_state_it_observes(make_scenario):
         simulate([make_scenario()], planner=_MutatingPlanner())
 
 
-@pytest.mark.parametrize("name", ["os:path", ":", "vrusim.sim.engine:BatchRun"])
+@pytest.mark.parametrize("name", ["os:path", ":", "vrusim.engine.simulate:BatchRun"])
 def test_broken_plugin_names_are_user_errors(name):
     with pytest.raises(UserInputError, match=r"planner\.name"):
         make_planner(name)
@@ -182,7 +182,7 @@ def test_kernel_caches_of_old_source_versions_are_pruned(tmp_path):
     import os
     import time
 
-    from vrusim import prune_kernel_caches
+    from vrusim.kernels import prune_kernel_caches
 
     old, recent, current = (tmp_path / name for name in ("old", "recent", "current"))
     for folder in (old, recent, current):
@@ -200,7 +200,7 @@ def test_gc_paused_restores_the_collector_state_and_nests():
     """Sweep batches pause the cyclic collector; only the outermost block turns it back on."""
     import gc
 
-    from vrusim.gc_pause import gc_paused
+    from vrusim.sweep.gc_pause import gc_paused
 
     assert gc.isenabled()
     with gc_paused():

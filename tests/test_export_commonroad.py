@@ -18,9 +18,6 @@ from commonroad.scenario.scenario import Tag
 from commonroad.scenario.state import CustomState
 
 from conftest import PAPER_FILES
-from vrusim import __version__
-from vrusim.catalog.ncap import select
-from vrusim.catalog.ncap_build import build_test
 from vrusim.errors import UserInputError
 from vrusim.interop.commonroad import (
     export_commonroad,
@@ -31,8 +28,11 @@ from vrusim.interop.commonroad import (
 )
 from vrusim.interop.commonroad_agents import VRU_OBSTACLE_TYPES, ego_turn_centre_line, route_end_pose
 from vrusim.interop.commonroad_lanelets import ARMS
+from vrusim.ncap.build import build_test
+from vrusim.ncap.grid import select
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.schema import Scenario
+from vrusim.version import __version__
 from vrusim.viz.recording import Recording, record
 
 TOL_M = 1e-6

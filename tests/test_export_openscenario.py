@@ -15,13 +15,13 @@ from lxml import etree
 
 from asam_qc import check_file, checker_errors
 from cli_helpers import assert_user_error, invoke
-from vrusim.catalog.ncap import select
-from vrusim.catalog.ncap_build import build_test
+from vrusim.engine.simulate import simulate
 from vrusim.interop.openscenario import build_export, export_openscenario, file_stem, road_half_length_m
 from vrusim.interop.osc_motion import trigger_station_m
+from vrusim.ncap.build import build_test
+from vrusim.ncap.grid import select
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 YAML_FILES = [*sorted(ROOT.glob("scenarios/paper/*.yaml")), *sorted(ROOT.glob("scenarios/examples/*.yaml"))]

@@ -11,13 +11,13 @@ from gymnasium.utils.env_checker import check_env
 
 import vrusim.gym
 from conftest import PAPER_DIR
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.gym import VruEnv, VruVectorEnv
 from vrusim.gym.episodes import SUMMARY_COLUMNS
 from vrusim.metrics.columns import result_columns
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import simulate
 
 GENERIC_KWARGS = {"scenario": "CPNA-25/20kph/day"}
 

@@ -12,12 +12,13 @@ import math
 import numpy as np
 import pytest
 
-from vrusim.catalog.ncap import run_tests, select
-from vrusim.catalog.ncap_build import build_test
-from vrusim.catalog.ncap_protocol import SCENARIOS
-from vrusim.metrics.ncap import assess
-from vrusim.scenario.paths import SAMPLE_SPACING_M, ego_route_spec, sample_path
-from vrusim.sim.engine import simulate
+from vrusim.engine.simulate import simulate
+from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
+from vrusim.ncap.assess import assess
+from vrusim.ncap.build import build_test
+from vrusim.ncap.grid import run_tests, select
+from vrusim.ncap.protocol import SCENARIOS
+from vrusim.scenario.routes import ego_route_spec
 
 TOLERANCE_M = 0.05
 CONTACT_LEAD_S = 0.35

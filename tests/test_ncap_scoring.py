@@ -15,19 +15,9 @@ from hypothesis import strategies as st
 from matplotlib.image import imread
 from rich.console import Console
 
-import vrusim.metrics.ncap as ncap
-from vrusim.catalog.ncap_scoring import (
-    BANDS_KPH,
-    COLOURS,
-    EURO_NCAP_GROUPS,
-    FCW_FALLBACK_LABEL,
-    GROUP_CAPS,
-    POINTS_ENTRIES,
-    SCENARIO_POINTS,
-    SUB_SCORES,
-)
+import vrusim.ncap.assess as ncap
 from vrusim.errors import UserInputError
-from vrusim.metrics.ncap import (
+from vrusim.ncap.assess import (
     SCHEMA,
     assess,
     assess_test,
@@ -36,6 +26,16 @@ from vrusim.metrics.ncap import (
     bands_row_speed_kph,
     capped,
     write_assessed_rows,
+)
+from vrusim.ncap.scoring import (
+    BANDS_KPH,
+    COLOURS,
+    EURO_NCAP_GROUPS,
+    FCW_FALLBACK_LABEL,
+    GROUP_CAPS,
+    POINTS_ENTRIES,
+    SCENARIO_POINTS,
+    SUB_SCORES,
 )
 from vrusim.viz.scorecard import scorecard_figure, scorecard_renderables, write_scorecard_png
 
@@ -277,7 +277,7 @@ def test_docs_list_every_points_entry():
 def test_points_table_matches_the_catalogue():
     """Cell counts and (scenario, lighting) pairs come from the protocol tables: every catalogue pair is
     scored and every scored pair exists in the catalogue."""
-    from vrusim.catalog.ncap_protocol import BY_CODE, SCENARIOS
+    from vrusim.ncap.protocol import BY_CODE, SCENARIOS
 
     catalogue = {(spec.code, lighting) for spec in SCENARIOS for lighting in spec.lighting}
     assert set(SCENARIO_POINTS) == catalogue
@@ -403,12 +403,12 @@ def test_failed_writes_leave_no_file(tmp_path, monkeypatch):
 
 def test_unwritable_folder_is_a_user_error(tmp_path, monkeypatch):
     """What a read-only folder does to a non-root user (root can write anywhere, so simulated here)."""
-    import vrusim.atomic_io
+    import vrusim.io.atomic
 
     def refused(**kwargs):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(vrusim.atomic_io.tempfile, "mkstemp", refused)
+    monkeypatch.setattr(vrusim.io.atomic.tempfile, "mkstemp", refused)
     with pytest.raises(UserInputError, match="Permission denied"):
         write_assessed_rows(_sample_tests(), tmp_path / "a.csv")
     assert os.listdir(tmp_path) == []

@@ -13,11 +13,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.scenario.schema import Obstacle, Pose
-from vrusim.sim.engine import simulate
-from vrusim.sim.occlusion import RAYS, no_obstacles, pack_obstacles, segments_hit_box
-from vrusim.sim.sensing import perceived
+from vrusim.sim.sensing.occlusion import RAYS, no_obstacles, pack_obstacles, segments_hit_box
+from vrusim.sim.sensing.sector import perceived
 
 RANGE_M, FOV_DEG = 20.0, 120.0
 
@@ -484,7 +484,7 @@ def test_obstacles_do_not_affect_v2x_or_collisions(make_scenario):
 
 def test_obstacle_variant_identical_alone_and_in_threaded_batch(monkeypatch, make_scenario):
     """Same detections alone, in a batch with more obstacles / none, serial or multi-threaded."""
-    from vrusim.sim import kernels
+    from vrusim import kernels
 
     target = make_scenario(base=cpnco())
     others = [make_scenario(base=cpnco(obstacles=False))]

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from vrusim.catalog.paper import CAPTION_EVENTS, SCORE_TOLERANCE, TABLE_II, TIME_TOLERANCE_S, reproduce
+from vrusim.paper.cases import CAPTION_EVENTS, SCORE_TOLERANCE, TABLE_II, TIME_TOLERANCE_S, reproduce
 
 
 @pytest.fixture(scope="module")
@@ -65,12 +65,12 @@ def test_v2x_shifts_the_first_reaction_earlier(reproduction):
 @pytest.mark.parametrize("v2x", [False, True])
 def test_escooter_is_followed_stably(v2x):
     """Over a long trip the ego settles behind the e-scooter at its speed and the IDM+ equilibrium gap."""
-    from vrusim.catalog.paper import scenario_dir
+    from vrusim.engine.simulate import simulate
     from vrusim.metrics.summary import summary_rows
+    from vrusim.paper.cases import scenario_dir
     from vrusim.planners.fsm import FsmParams
     from vrusim.scenario.loading import load_scenario
     from vrusim.scenario.schema import Scenario
-    from vrusim.sim.engine import simulate
 
     data = load_scenario(scenario_dir() / "escooter_leading.yaml").with_v2x(v2x).model_dump()
     data["ego"]["route"]["length_m"] = 900.0
@@ -105,9 +105,9 @@ def test_results_contain_no_nan(reproduction):
 @pytest.mark.parametrize("v2x", [False, True])
 def test_every_shipped_scenario_runs_cleanly(path, v2x):
     """Every YAML file users can copy loads, runs both ways and yields a complete, finite summary."""
+    from vrusim.engine.simulate import simulate
     from vrusim.metrics.summary import summary_rows
     from vrusim.scenario.loading import load_scenario
-    from vrusim.sim.engine import simulate
 
     row = summary_rows(simulate([load_scenario(path).with_v2x(v2x)]))[0]
     assert row["outcome"] in ("collision", "avoided")

@@ -8,12 +8,12 @@ import copy
 import numpy as np
 import pytest
 
-from vrusim.catalog.paper import scenario_dir
-from vrusim.metrics import streaming
-from vrusim.metrics.streaming import RunMetrics
+from vrusim import kernels
+from vrusim.engine import accumulators as streaming
+from vrusim.engine.accumulators import RunMetrics
+from vrusim.engine.simulate import simulate
+from vrusim.paper.cases import scenario_dir
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
-from vrusim.sim import kernels
-from vrusim.sim.engine import simulate
 
 CASES = ("pedestrian_crossing.yaml", "escooter_leading.yaml", "motorcyclist_crossing.yaml")
 SCRATCH = {"prev_actuator", "prev_clearance", "prev_speed"}

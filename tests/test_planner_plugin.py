@@ -9,13 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from vrusim.catalog.paper import scenario_dir
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
+from vrusim.paper.cases import scenario_dir
 from vrusim.planners.fsm import FsmPlanner
 from vrusim.planners.registry import ENTRY_POINT_GROUP, make_planner
 from vrusim.scenario.loading import load_scenario
-from vrusim.sim.engine import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "planner_plugin"

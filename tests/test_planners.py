@@ -7,10 +7,10 @@ import itertools
 import numpy as np
 import pytest
 
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.engine import simulate
 
 
 class BrakeOnDetection:
@@ -112,7 +112,7 @@ class BrakeOnConflict:
 
 
 def test_conflict_tracker_flags_the_crossing_pedestrian_from_the_first_v2x_message():
-    from vrusim.catalog.paper import scenario_dir
+    from vrusim.paper.cases import scenario_dir
     from vrusim.scenario.loading import load_scenario
 
     scenario = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").with_v2x(True)

@@ -6,12 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vrusim.catalog.paper import CASES, paper_scenarios
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
+from vrusim.paper.cases import CASES, paper_scenarios
 from vrusim.planners.predictive import PredictiveParams, PredictivePlanner
 from vrusim.planners.registry import make_planner
-from vrusim.sim.engine import simulate
 
 SPEED = 10.0
 FRONT_X = 2.25

@@ -11,13 +11,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from vrusim.cli import app
+from vrusim.cli.main import app
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario
-from vrusim.scenario.paths import ego_route_spec
-from vrusim.sim.batch import pack
-from vrusim.sim.engine import simulate
-from vrusim.sim.sensing import sense
+from vrusim.scenario.routes import ego_route_spec
+from vrusim.sim.params import pack
+from vrusim.sim.sensing.sector import sense
 from vrusim.sim.state import initial_ego, initial_vrus
 
 LENGTH, WIDTH, WHEELBASE, REAR_OVERHANG = 4.6, 1.8, 2.7, 1.1  # front overhang 0.8 m: the mirror is visible

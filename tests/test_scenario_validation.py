@@ -10,10 +10,10 @@ from typing import Any
 
 import pytest
 
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import simulate
 
 PAPER_FILES = sorted((Path(__file__).resolve().parents[1] / "scenarios" / "paper").glob("*.yaml"))
 
@@ -325,11 +325,11 @@ def test_every_number_and_switch_of_a_paper_file_takes_only_its_type(name):
     """Each number of the paper files, given as a boolean or quoted, and each switch given as 1, is refused with
     exactly that field named (strict types everywhere, including nested models and lists). Planner parameters
     are checked by their planner when the run starts."""
-    from vrusim.catalog.paper import scenario_dir
+    from vrusim.paper.cases import scenario_dir
     from vrusim.planners.registry import make_planner
     from vrusim.scenario.loading import field_path
     from vrusim.scenario.yaml_file import read_yaml_file
-    from vrusim.sim.batch import pack
+    from vrusim.sim.params import pack
 
     data = read_yaml_file(scenario_dir() / name, "scenario")
     leaves = _scalar_leaves(data)

@@ -11,9 +11,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from vrusim.engine.simulate import simulate
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.engine import simulate
-from vrusim.sim.sensing import distance_to_sector, perceived
+from vrusim.sim.sensing.sector import distance_to_sector, perceived
 
 EPS = 1e-6
 

@@ -13,17 +13,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vrusim.catalog.paper import paper_scenarios
+from vrusim import kernels
+from vrusim.engine import stepper
+from vrusim.engine.accumulators import FIELDS
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
-from vrusim.metrics.streaming import FIELDS
 from vrusim.metrics.summary import summary_rows
+from vrusim.paper.cases import paper_scenarios
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim import kernels, stepper
-from vrusim.sim.batch import pack
-from vrusim.sim.engine import simulate
 from vrusim.sim.observation import SOURCE_SENSOR
+from vrusim.sim.params import pack
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normals, uniforms
-from vrusim.sim.sensor_model import IdealSensor, RealisticSensor, make_sensor_model, whole_steps
+from vrusim.sim.sensing.sensor_model import IdealSensor, RealisticSensor, make_sensor_model, whole_steps
 
 DT = 0.01
 SCRATCH_FIELDS = {"prev_actuator", "prev_clearance", "prev_speed"}
@@ -456,8 +457,8 @@ def test_bad_sensor_field_is_named(scenario_dict, field, value, reason):
 def test_fused_sensor_estimates_carry_their_age(make_scenario):
     """A 0.1 s latency at 20 Hz: the observation's age of a sensor estimate is latency + time held, in
     [0.1, 0.15) s, and the ideal sensor's is 0."""
-    from vrusim.sim.batch import pack
-    from vrusim.sim.sensor_model import RealisticSensor
+    from vrusim.sim.params import pack
+    from vrusim.sim.sensing.sensor_model import RealisticSensor
 
     scenario = make_scenario({"sensor": {"latency_s": 0.1, "frame_rate_hz": 20.0}})
     sensor = RealisticSensor()

@@ -19,9 +19,9 @@ from matplotlib.image import imread
 from matplotlib.pyplot import get_cmap
 
 from cli_helpers import assert_user_error, invoke
-from vrusim.compare import wilson_interval
-from vrusim.sweep.sensitivity_plots import group_axis, sensitivity_figure, write_figure
+from vrusim.studies.compare import wilson_interval
 from vrusim.sweep.summarize import summarize
+from vrusim.viz.sensitivity import group_axis, sensitivity_figure, write_figure
 
 SPEED = "ego.cruise_speed_mps"  # continuous: binned
 WALK = "vrus[0].top_speed_mps"  # three values: grouped exactly

@@ -19,9 +19,9 @@ import yaml
 
 from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR, REPO_ROOT
-from vrusim.catalog.ncap import run_tests, select
+from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
-from vrusim.sim.engine import simulate
+from vrusim.ncap.grid import run_tests, select
 from vrusim.sweep.plan import VariantBuilder, make_plan
 from vrusim.sweep.runner import run_sweep
 from vrusim.sweep.spec import load_spec

@@ -16,7 +16,7 @@ from conftest import PAPER_DIR
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.schema import Scenario
-from vrusim.scenario.v2x_channel import resolve_channel
+from vrusim.scenario.v2x import resolve_channel
 from vrusim.sweep.design import make_design, preflight_rows, variant_seeds
 from vrusim.sweep.field_paths import check_path, parse_path, with_values
 from vrusim.sweep.plan import TEST_COLUMN, VariantBuilder, make_plan

@@ -1,4 +1,4 @@
-"""Tests for vrusim.metrics.ttc.time_to_collision (exact rectangle/circle TTC under constant velocity)."""
+"""Tests for vrusim.geometry.ttc.time_to_collision (exact rectangle/circle TTC under constant velocity)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vrusim.metrics.ttc import time_to_collision
-from vrusim.sim.contact import rectangle_circle_clearance
+from vrusim.geometry.contact import rectangle_circle_clearance
+from vrusim.geometry.ttc import time_to_collision
 
 S = math.sqrt(0.5)
 

@@ -20,14 +20,14 @@ from hypothesis import strategies as st
 
 from conftest import PAPER_FILES, minimal_scenario_dict
 from test_batch_consistency import SCRATCH_FIELDS, metric_arrays
+from vrusim import kernels
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
-from vrusim.scenario.v2x_channel import V2X_PROFILES, ChannelSpec, GilbertElliottLoss, load_profiles
-from vrusim.sim import kernels
-from vrusim.sim.batch import BatchParams, pack
-from vrusim.sim.engine import simulate
-from vrusim.sim.v2x import IdealChannel, V2xMessages, make_channel
-from vrusim.sim.v2x_channel import RealisticChannel
+from vrusim.scenario.v2x import V2X_PROFILES, ChannelSpec, GilbertElliottLoss, load_profiles
+from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.v2x.channel import RealisticChannel, make_channel
+from vrusim.sim.v2x.messages import IdealChannel, V2xMessages
 
 DT = 0.01
 
@@ -610,7 +610,7 @@ def test_a_track_age_shorter_than_the_delay_is_rejected():
     """Messages older than the track age on arrival would be dropped silently: the schema refuses it."""
     from pydantic import ValidationError
 
-    from vrusim.scenario.v2x_channel import ChannelSpec
+    from vrusim.scenario.v2x import ChannelSpec
 
     with pytest.raises(ValidationError, match="track_max_age_s"):
         ChannelSpec(latency_s=0.8, jitter_s=0.3)  # default track age 1.0 s < 1.1 s

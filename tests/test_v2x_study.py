@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from vrusim.catalog.paper import scenario_dir
+from vrusim.paper.cases import scenario_dir
 from vrusim.scenario.loading import load_scenario
-from vrusim.v2x_study import MAX_BURSTY_LOSS, channel_for, flip, onset, sweep
+from vrusim.studies.v2x_sensitivity import MAX_BURSTY_LOSS, channel_for, flip, onset, sweep
 
 
 @pytest.fixture(scope="module")

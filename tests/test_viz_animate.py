@@ -10,8 +10,8 @@ import pytest
 
 from cli_helpers import invoke
 from conftest import PAPER_DIR
-from vrusim.catalog.paper import paper_scenarios
 from vrusim.errors import UserInputError
+from vrusim.paper.cases import paper_scenarios
 from vrusim.viz import animate
 from vrusim.viz.animate import frame_times, write_animation
 from vrusim.viz.recording import record

@@ -16,7 +16,7 @@ from PIL import Image
 
 from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR
-from vrusim.catalog.paper import paper_scenarios
+from vrusim.paper.cases import paper_scenarios
 from vrusim.viz import style
 from vrusim.viz.recording import KEY_EVENT_LABELS, record
 from vrusim.viz.scene import SceneArtists, ViewWindow

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
+from vrusim.engine.simulate import simulate
 from vrusim.planners.base import HoldSpeedPlanner
-from vrusim.sim.engine import simulate
 
 
 def _far_vru(**fields) -> dict:

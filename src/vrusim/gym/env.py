@@ -8,15 +8,15 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from vrusim.engine.stepper import BatchStepper
 from vrusim.gym.episodes import EpisodeBatch
 from vrusim.gym.features import DEFAULT_VRU_SLOTS, feature_names, observation_space
 from vrusim.gym.render import EpisodeFrames
 from vrusim.gym.reward import RewardWeights
 from vrusim.gym.sources import ScenarioSource, resolve_scenario
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.batch import pack
 from vrusim.sim.observation import Observation
-from vrusim.sim.stepper import BatchStepper
+from vrusim.sim.params import pack
 
 
 def action_space(scenario: Scenario) -> spaces.Box:

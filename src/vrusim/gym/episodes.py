@@ -10,8 +10,8 @@ from vrusim.gym.features import observation_vectors
 from vrusim.gym.reward import RewardModel, RewardWeights
 from vrusim.gym.stepper import EpisodeStepper
 from vrusim.metrics.columns import FLOAT_COLUMNS, SCORE_COLUMNS, result_columns
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import BatchParams
 
 SUMMARY_COLUMNS = ("collided", *FLOAT_COLUMNS, *SCORE_COLUMNS)
 """Result columns reported in `info["metrics"]` when an episode ends (`vrusim.metrics.columns`)."""

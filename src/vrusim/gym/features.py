@@ -14,10 +14,10 @@ import functools
 import numpy as np
 from gymnasium import spaces
 
-from vrusim.metrics.ttc import ttc_batch
-from vrusim.sim.batch import BatchParams
-from vrusim.sim.contact import clearance_batch
+from vrusim.geometry.contact import clearance_batch
+from vrusim.geometry.ttc import ttc_batch
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X, Observation
+from vrusim.sim.params import BatchParams
 
 TTC_CAP_S = 10.0
 """TTC reported for a VRU with no predicted contact, or not detected, s."""

@@ -10,10 +10,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from vrusim.engine.simulate import BatchRun, TraceRecorder
+from vrusim.engine.stepper import BatchStepper
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import BatchRun, TraceRecorder
-from vrusim.sim.stepper import BatchStepper
 from vrusim.viz.recording import Recording, ego_route_xy_m, key_events, vru_paths_xy_m
 from vrusim.viz.scene import ViewWindow, scene_figure
 

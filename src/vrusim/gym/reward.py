@@ -21,7 +21,7 @@ import numpy as np
 
 from vrusim.gym.stepper import StepOutcome
 from vrusim.metrics.scores import profile
-from vrusim.sim.batch import BatchParams
+from vrusim.sim.params import BatchParams
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ def _resolve(source: ScenarioSource) -> Scenario:
 
 
 def _paper(key: str) -> Scenario:
-    from vrusim.catalog.paper import CASES, scenario_dir
+    from vrusim.paper.cases import CASES, scenario_dir
     from vrusim.scenario.loading import load_scenario
 
     for case in CASES:
@@ -46,8 +46,8 @@ def _paper(key: str) -> Scenario:
 
 def _catalogue(test_id: str) -> Scenario:
     """A Euro NCAP catalogue test by its full id, e.g. `CPNA-25/20kph/day` (built for the fsm planner)."""
-    from vrusim.catalog.ncap_build import build_test
-    from vrusim.catalog.sources import single_test
+    from vrusim.ncap.build import build_test
+    from vrusim.sources import single_test
 
     expected = "a YAML file, `paper:<case>` or a catalogue test id"
     return build_test(single_test(test_id, expected, argument="scenario")).scenario

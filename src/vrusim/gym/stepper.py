@@ -1,4 +1,4 @@
-"""The engine's step (vrusim.sim.stepper) for episodes: what each step did, per variant, for rewards and done flags.
+"""The engine's step (vrusim.engine.stepper) for episodes: what each step did, per variant, for rewards and done flags.
 
 Every variant stays in the working set (no compaction), so row b is variant b throughout; an episode driven
 by a planner's own commands reproduces `simulate` bit for bit (tests/test_gym.py checks it).
@@ -10,10 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vrusim.sim.batch import BatchParams
-from vrusim.sim.engine import BatchRun
+from vrusim.engine.simulate import BatchRun
+from vrusim.engine.stepper import BatchStepper
 from vrusim.sim.observation import Observation
-from vrusim.sim.stepper import BatchStepper
+from vrusim.sim.params import BatchParams
 
 
 @dataclass

@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_params
+from vrusim.sim.params import BatchParams
 
 
 def take(params: BatchParams, index: np.ndarray) -> BatchParams:

@@ -26,7 +26,7 @@ from vrusim.gym.reward import RewardWeights
 from vrusim.gym.sources import ScenarioSource, resolve_scenario
 from vrusim.gym.subset import take
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.batch import pack
+from vrusim.sim.params import pack
 
 
 class _Cohort:

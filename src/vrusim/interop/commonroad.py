@@ -22,8 +22,6 @@ from commonroad.planning.planning_problem import PlanningProblemSet
 from commonroad.scenario.scenario import Scenario as CrScenario
 from commonroad.scenario.scenario import Tag
 
-from vrusim import __version__
-from vrusim.atomic_io import write_atomically, write_together
 from vrusim.errors import UserInputError
 from vrusim.interop.commonroad_agents import (
     ego_obstacle,
@@ -35,7 +33,9 @@ from vrusim.interop.commonroad_agents import (
     vru_obstacles,
 )
 from vrusim.interop.commonroad_lanelets import road_network
+from vrusim.io.atomic import write_atomically, write_together
 from vrusim.scenario.schema import Scenario
+from vrusim.version import __version__
 from vrusim.viz.recording import Recording, record
 
 DECIMALS = 10

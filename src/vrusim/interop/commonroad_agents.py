@@ -22,7 +22,8 @@ from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType, StaticOb
 from commonroad.scenario.state import ExtendedPMState, InitialState
 from commonroad.scenario.trajectory import Trajectory
 
-from vrusim.scenario.paths import ego_route_spec, path_poses
+from vrusim.geometry.paths import path_poses
+from vrusim.scenario.routes import ego_route_spec
 from vrusim.scenario.schema import Ego, Obstacle, Scenario
 from vrusim.scenario.vru_types import VruType
 from vrusim.viz.recording import Recording

@@ -14,8 +14,6 @@ from pathlib import Path
 
 from scenariogeneration import xodr, xosc
 
-from vrusim import __version__
-from vrusim.atomic_io import write_together
 from vrusim.interop.opendrive import road_network
 from vrusim.interop.osc_entities import (
     ego_reference_pose,
@@ -32,7 +30,9 @@ from vrusim.interop.osc_motion import (
     vru_reach_m,
     vru_trajectory,
 )
+from vrusim.io.atomic import write_together
 from vrusim.scenario.schema import Scenario, Vru
+from vrusim.version import __version__
 
 EGO = "ego"
 ROAD_MARGIN_M = 10.0

@@ -13,8 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vrusim.geometry.paths import Line, path_poses
 from vrusim.interop.osc_entities import ego_reference_pose
-from vrusim.scenario.paths import Line, ego_route_spec, path_poses
+from vrusim.scenario.routes import ego_route_spec
 from vrusim.scenario.schema import Ego, Scenario, Trigger, Vru
 
 VERTEX_SPACING_M = 0.25

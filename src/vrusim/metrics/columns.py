@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from vrusim.engine.simulate import BatchRun
+from vrusim.geometry.contact import IMPACT_SIDE_NAMES, impact_side, lateral_impact_fraction
 from vrusim.metrics.scores import profile, scores
-from vrusim.sim.contact import IMPACT_SIDE_NAMES, impact_side, lateral_impact_fraction
-from vrusim.sim.engine import BatchRun
 
 FLOAT_COLUMNS = (
     "contact_time_s",

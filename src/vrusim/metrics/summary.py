@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
+from vrusim.engine.simulate import BatchRun
 from vrusim.metrics.columns import FLOAT_COLUMNS, result_columns, score_arrays
-from vrusim.sim.engine import BatchRun
 
 __all__ = ["score_arrays", "summary_rows"]
 

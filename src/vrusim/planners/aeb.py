@@ -19,17 +19,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
 from pydantic import Field, ValidationInfo, field_validator
 
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.planners.conflict import new_tracks, update_track
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
-from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import BatchParams
 
 CRUISE, WARNING, PARTIAL_BRAKE, FULL_BRAKE = 0, 1, 2, 3
 

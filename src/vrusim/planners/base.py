@@ -13,8 +13,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import BatchParams
 
 
 @runtime_checkable

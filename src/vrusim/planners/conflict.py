@@ -21,9 +21,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from vrusim.scenario.paths import nearest_station, project_point
+from vrusim.geometry.path_table import nearest_station, project_point
+from vrusim.kernels import njit
 from vrusim.sim.observation import Observation
 
 LEAD_SPEED_MPS = 0.5

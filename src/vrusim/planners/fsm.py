@@ -24,16 +24,15 @@ Conflicts are defined in `vrusim.planners.conflict`.
 from __future__ import annotations
 
 import numpy as np
-from numba import prange
 from pydantic import Field
 
+from vrusim.kernels import batch_kernel, prange
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
-from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import BatchParams
 
 CRUISE, PRE_SLOW, EMERGENCY_BRAKE, FOLLOW = 0, 1, 2, 3
 

@@ -11,7 +11,7 @@ from pydantic import BaseModel, ValidationError
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import field_path
 from vrusim.scenario.strict import error_message
-from vrusim.sim.batch import BatchParams
+from vrusim.sim.params import BatchParams
 
 Model = TypeVar("Model", bound=BaseModel)
 

@@ -30,9 +30,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from vrusim.scenario.paths import locate_point, nearest_station, project_point
+from vrusim.geometry.path_table import locate_point, nearest_station, project_point
+from vrusim.kernels import njit
 
 CONSTANT_VELOCITY, PATH = 0, 1
 PROJECTION_ITERATIONS = 3

@@ -24,18 +24,17 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from numba import prange
 from pydantic import Field, ValidationInfo, field_validator
 
+from vrusim.kernels import batch_kernel, prange
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.prediction import CONSTANT_VELOCITY, PATH, occupancy_bounds, path_station_of, plan_start
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.batch import BatchParams
 from vrusim.sim.compaction import take_attributes
-from vrusim.sim.kernels import batch_kernel
 from vrusim.sim.observation import Observation
+from vrusim.sim.params import BatchParams
 
 CRUISE, YIELD, FOLLOW, STOP, EMERGENCY_BRAKE = 0, 1, 2, 3, 4
 STANDSTILL_MPS = 0.01

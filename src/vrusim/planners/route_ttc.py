@@ -4,10 +4,10 @@ The ego keeps its current speed **along its route** (so a turning ego turns in t
 placed at the route pose of its rear axle, heading along the route tangent there) and each VRU keeps its current
 velocity, or, given a braking deceleration, slows along its heading at that rate until it stands still (a braking
 lead, Euro NCAP CMRb). The TTC is the first time the rectangle and the VRU's circle touch (clearance <= 0, the exact
-rectangle-circle clearance of `vrusim.sim.contact`). The clearance is evaluated every `TTC_STEP_S` up to a
+rectangle-circle clearance of `vrusim.geometry.contact`). The clearance is evaluated every `TTC_STEP_S` up to a
 horizon and the contact time is interpolated linearly between the last two samples.
 
-On a straight route this is the 2-D TTC of `vrusim.metrics.ttc`: exact wherever the clearance changes linearly
+On a straight route this is the 2-D TTC of `vrusim.geometry.ttc`: exact wherever the clearance changes linearly
 in time, e.g. a stationary target met by the front face (TTC = gap / v), and within the interpolation error of
 one step otherwise (a VRU met at a corner of the rectangle). A VRU whose relative motion carries it across the
 whole rectangle within one step (over 1.8 m / 0.05 s = 36 m/s sideways for a 1.8 m wide car) can be missed.
@@ -18,10 +18,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from vrusim.scenario.paths import locate_point
-from vrusim.sim.contact import clearance_local, to_local
+from vrusim.geometry.contact import clearance_local, to_local
+from vrusim.geometry.path_table import locate_point
+from vrusim.kernels import njit
 
 TTC_STEP_S = 0.05
 """Sampling step of the route TTC, s."""

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from vrusim.errors import UserInputError
-from vrusim.metrics.ncap import Assessment, assess
+from vrusim.ncap.assess import Assessment, assess
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, cell, facts, filter_box, join, table, tag
 from vrusim.report.page import Report, Section

@@ -14,8 +14,8 @@ from functools import cache
 from importlib import resources
 from typing import Any
 
-import vrusim
 from vrusim.report.html import Html, esc, facts, join, script_json, tag
+from vrusim.version import __version__, source_digest
 
 CONTENT_SECURITY_POLICY = (
     "default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'; base-uri 'none'; "
@@ -56,8 +56,8 @@ def asset(name: str) -> str:
 def code_version() -> dict[str, str]:
     """What produced the report: vrusim version, source digest, Python, platform, time (UTC, ISO 8601)."""
     return {
-        "vrusim": vrusim.__version__,
-        "source_digest": vrusim.source_digest(),
+        "vrusim": __version__,
+        "source_digest": source_digest(),
         "python": sys.version.split()[0],
         "platform": platform.platform(terse=True),
         "generated_utc": datetime.now(UTC).replace(microsecond=0).isoformat(),

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from vrusim.catalog.paper import paper_scenarios, reproduce, scenario_dir
+from vrusim.paper.cases import paper_scenarios, reproduce, scenario_dir
 from vrusim.report.html import Column, Html, facts, join, table, tag
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import parameters
@@ -101,7 +101,7 @@ def events_table(result: dict[str, Any]) -> Html:
 
 def match_counts(result: dict[str, Any]) -> list[tuple[str, Html]]:
     """Matching outcomes, events and individual scores, as facts with ids (match-outcomes, ...)."""
-    from vrusim.cli import match_counts as counts
+    from vrusim.paper.cases import match_counts as counts
 
     return [
         (name, tag("span", f"{ok} / {total}", id=f"match-{name}", data_value=f"[{ok},{total}]"))

@@ -9,7 +9,7 @@ import yaml
 
 from vrusim.report.html import Column, Html, pre, table, tag
 from vrusim.scenario.schema import Scenario
-from vrusim.sweep.sensitivity_plots import unit_of
+from vrusim.viz.sensitivity import unit_of
 
 SUMMARY_LABELS = {
     "outcome": "Outcome",

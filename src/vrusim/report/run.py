@@ -6,7 +6,6 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from vrusim.catalog.sources import is_scenario_file, single_source
 from vrusim.errors import UserInputError
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
@@ -15,6 +14,7 @@ from vrusim.report.parts import parameters, summary_table, transitions_table
 from vrusim.report.run_charts import run_charts
 from vrusim.scenario.loading import describe_validation_error, load_scenario
 from vrusim.scenario.schema import Scenario
+from vrusim.sources import is_scenario_file, single_source
 from vrusim.viz.recording import KEY_EVENT_LABELS, Recording, record
 
 

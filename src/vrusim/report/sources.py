@@ -10,10 +10,10 @@ import os
 from enum import StrEnum
 from pathlib import Path
 
-from vrusim.atomic_io import write_atomically
-from vrusim.catalog.sources import single_test
 from vrusim.errors import UserInputError
+from vrusim.io.atomic import write_atomically
 from vrusim.report.page import Report, render
+from vrusim.sources import single_test
 
 SCENARIO_SUFFIXES = (".yaml", ".yml")
 REPORT_SUFFIXES = (".html", ".htm")

@@ -14,8 +14,8 @@ from vrusim.report import figures
 from vrusim.report.charts import Series, line_chart
 from vrusim.report.html import Column, Html, facts, join, pre, table, tag
 from vrusim.report.page import Report, Section
-from vrusim.sweep.sensitivity_plots import axis_label, sensitivity_figure
 from vrusim.sweep.summarize import STATISTICS, SweepResults, is_numeric, open_results, summarize
+from vrusim.viz.sensitivity import axis_label, sensitivity_figure
 
 OUTCOME_COLUMNS = (
     Column("runs", "Runs"),

@@ -12,7 +12,7 @@ from typing import Any, Literal, Self
 from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
 from vrusim.scenario.strict import StrictModel
-from vrusim.scenario.v2x_channel import ChannelSpec, check_channel, resolve_channel
+from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 MAX_STEPS = 10_000_000
@@ -205,7 +205,7 @@ class Sensor(StrictModel):
     """Onboard sector sensor with its apex at the centre of the front bumper.
 
     The defaults are the ideal sensor (no latency, no missed detection, no noise, daylight); the realism
-    fields are modelled in `sim/sensor_model.py` (docs/models.md, "Sensor model").
+    fields are modelled in `sim/sensing/sensor_model.py` (docs/models.md, "Sensor model").
     """
 
     enabled: bool = True
@@ -371,7 +371,7 @@ class MetricsSettings(StrictModel):
     @field_validator("profile")
     @classmethod
     def _known_profile(cls, name: str) -> str:
-        from vrusim.metrics.scores import PROFILES
+        from vrusim.scenario.score_profiles import PROFILES
 
         if name not in PROFILES:
             raise ValueError(f"unknown profile {name!r}; expected one of: {', '.join(sorted(PROFILES))}")

@@ -12,8 +12,8 @@ import dataclasses
 
 import numpy as np
 
-from vrusim.sim.batch import BatchParams
-from vrusim.sim.occlusion import ObstacleArrays
+from vrusim.sim.params import BatchParams
+from vrusim.sim.sensing.occlusion import ObstacleArrays
 from vrusim.sim.state import EgoState, VruState
 
 

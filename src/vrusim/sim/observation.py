@@ -5,11 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import prange
 
-from vrusim.scenario.paths import PathTable
-from vrusim.sim.kernels import batch_kernel
-from vrusim.sim.v2x import V2xMessages
+from vrusim.geometry.path_table import PathTable
+from vrusim.kernels import batch_kernel, prange
+from vrusim.sim.v2x.messages import V2xMessages
 
 SOURCE_SENSOR = 1
 """Bit set in `Observation.source` when the onboard sensor perceives the VRU."""

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vrusim.sim.batch import BatchParams
+from vrusim.sim.params import BatchParams
 
 
 @dataclass

@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from vrusim.gc_pause import gc_paused
+from vrusim.engine.simulate import simulate
 from vrusim.metrics.columns import result_columns
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import simulate
+from vrusim.sweep.gc_pause import gc_paused
 from vrusim.sweep.plan import SweepPlan, VariantBuilder
 from vrusim.sweep.tables import chunk_table
 

@@ -18,7 +18,7 @@ from pydantic import BaseModel, ValidationError
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Scenario
-from vrusim.scenario.v2x_channel import resolve_channel
+from vrusim.scenario.v2x import resolve_channel
 
 _STEP = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
 

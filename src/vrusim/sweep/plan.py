@@ -95,8 +95,8 @@ def _apply_overrides(base: Scenario, overrides: dict[str, Any]) -> Scenario:
 
 
 def _catalogue_bases(spec: SweepSpec) -> dict[str, Scenario]:
-    from vrusim.catalog.ncap import select
-    from vrusim.catalog.ncap_build import build_test
+    from vrusim.ncap.build import build_test
+    from vrusim.ncap.grid import select
     from vrusim.planners.registry import make_planner
 
     choice = spec.catalogue

@@ -14,10 +14,9 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-import vrusim
 from vrusim.errors import UserInputError
 from vrusim.planners.registry import make_planner, plugin_source
-from vrusim.sim.batch import pack
+from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
 from vrusim.sweep.execute import run_dask, run_processes, run_serial
@@ -25,6 +24,7 @@ from vrusim.sweep.plan import SweepPlan, VariantBuilder, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
 from vrusim.sweep.tables import chunk_table, design_types
+from vrusim.version import __version__, source_digest
 
 Progress = Callable[[int, int], None]
 """Called with (variants finished, variants in the sweep) after each batch."""
@@ -67,10 +67,10 @@ def code_version() -> dict[str, Any]:
     """The code that produced the results: package version, source digest, git commit if any, libraries."""
     import numba
 
-    source = Path(vrusim.__file__).parent
+    source = Path(__file__).resolve().parent.parent
     version: dict[str, Any] = {
-        "vrusim": vrusim.__version__,
-        "source_sha256": vrusim.source_digest(),
+        "vrusim": __version__,
+        "source_sha256": source_digest(),
         "python": platform.python_version(),
         "numpy": np.__version__,
         "numba": numba.__version__,
@@ -203,7 +203,7 @@ def _open(
     design = make_design(plan)
     if not store.design().equals(chunk_table(design, design_types(design), {})):
         raise UserInputError(f"{store.folder}: the design drawn now differs from the stored one (library change?)")
-    if manifest.get("code", {}).get("source_sha256") != vrusim.source_digest():
+    if manifest.get("code", {}).get("source_sha256") != source_digest():
         warnings.append("the code changed since the sweep started; resumed batches may differ from the earlier ones")
     recorded = {info["planner"]: info for info in manifest.get("code", {}).get("planner_plugins", [])}
     for info in plugin_sources(plan):

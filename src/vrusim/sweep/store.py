@@ -21,8 +21,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from vrusim.atomic_io import write_atomically
 from vrusim.errors import UserInputError
+from vrusim.io.atomic import write_atomically
 
 FORMAT = "vrusim-sweep/1"
 MANIFEST = "manifest.json"

@@ -22,8 +22,8 @@ from typing import Any
 
 import duckdb
 
-from vrusim.compare import wilson_interval
 from vrusim.errors import UserInputError
+from vrusim.studies.compare import wilson_interval
 
 FORMAT = "vrusim-sweep/1"
 """The manifest's `format` this module reads."""

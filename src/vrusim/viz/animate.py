@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 from PIL import Image
 
-from vrusim.atomic_io import write_atomically
+from vrusim.io.atomic import write_atomically
 from vrusim.viz import style
 from vrusim.viz.figure_io import check_output_path
 from vrusim.viz.recording import Recording

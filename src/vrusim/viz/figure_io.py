@@ -7,8 +7,8 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from vrusim.atomic_io import write_atomically
 from vrusim.errors import UserInputError
+from vrusim.io.atomic import write_atomically
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 """Figure file types, chosen by suffix."""

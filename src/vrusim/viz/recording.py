@@ -12,10 +12,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vrusim.engine.simulate import BatchRun, simulate
+from vrusim.geometry.paths import PathSpec, sample_path, sample_polyline
 from vrusim.metrics.summary import summary_rows
-from vrusim.scenario.paths import PathSpec, ego_route_spec, sample_path, sample_polyline, vru_path_spec
+from vrusim.scenario.routes import ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.engine import BatchRun, simulate
 from vrusim.sim.state import initial_ego, initial_vrus
 
 KEY_EVENT_LABELS: dict[str, str] = {

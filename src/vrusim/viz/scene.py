@@ -189,7 +189,7 @@ def visible_sector_xy(
     apex: np.ndarray, heading_deg: float, fov_deg: float, range_m: float, boxes: np.ndarray
 ) -> np.ndarray:
     """Outline [N, 2] of the part of the sensor sector the apex sees: rays every `SECTOR_RAY_STEP_DEG`, each
-    cut where it first meets an obstacle (as the sensor's line-of-sight model, `vrusim.sim.occlusion`)."""
+    cut where it first meets an obstacle (as the sensor's line-of-sight model, `vrusim.sim.sensing.occlusion`)."""
     count = max(2, math.ceil(fov_deg / SECTOR_RAY_STEP_DEG) + 1)
     angles = np.radians(heading_deg + np.linspace(-fov_deg / 2, fov_deg / 2, count))
     directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)

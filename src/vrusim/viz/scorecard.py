@@ -17,9 +17,9 @@ from rich.console import Group, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-from vrusim.atomic_io import write_atomically
-from vrusim.catalog.ncap_scoring import POINTS_ENTRIES
-from vrusim.metrics.ncap import CRITERION_AVOIDANCE, CRITERION_FCW, AssessedTest, Assessment, GroupScore
+from vrusim.io.atomic import write_atomically
+from vrusim.ncap.assess import CRITERION_AVOIDANCE, CRITERION_FCW, AssessedTest, Assessment, GroupScore
+from vrusim.ncap.scoring import POINTS_ENTRIES
 
 COLOUR_HEX: dict[str, str] = {
     "green": "#3aa845",

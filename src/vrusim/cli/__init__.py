@@ -1,0 +1,1 @@
+"""The `vrusim` command: one module per command, shared options in `options.py`."""

@@ -1,0 +1,96 @@
+"""Figure options of the commands: `vrusim run --plot/--animate` and `vrusim paper --figures DIR`.
+
+Each option's path is checked before anything is simulated; a bad one is a UserInputError naming the option.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from vrusim.errors import UserInputError
+
+PAPER_FIGURE_DPI = 110.0
+"""Resolution of the `paper --figures` PNGs, dots per inch."""
+
+
+def _named(option: str, check, path: Path) -> Path:
+    try:
+        return check(path)
+    except UserInputError as error:
+        raise UserInputError(f"{option}: {error}") from None
+
+
+def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
+    """Fail (naming --plot / --animate) unless each given path has a known suffix and a writable folder."""
+    from vrusim.viz.animate import check_animation_path
+    from vrusim.viz.figure_io import check_figure_path
+
+    if plot is not None:
+        _named("--plot", check_figure_path, plot)
+    if animate is not None:
+        _named("--animate", check_animation_path, animate)
+
+
+def write_run_outputs(run, plot: Path | None, animate: Path | None) -> list[str]:
+    """Write the run figure and / or the animation of a traced one-variant run; return what was written."""
+    from vrusim.viz.recording import recordings_of
+
+    recordings = recordings_of(run)
+    written = []
+    if plot is not None:
+        from vrusim.viz.runplot import write_run_figure
+
+        _named("--plot", lambda p: write_run_figure(recordings, p), plot)
+        written.append(f"Figure written to {plot}.")
+    if animate is not None:
+        from vrusim.viz.animate import write_animation
+
+        _named("--animate", lambda p: write_animation(recordings[0], p), animate)
+        written.append(f"Animation written to {animate}.")
+    return written
+
+
+def check_figures_dir(directory: Path) -> Path:
+    """--figures DIR: an existing writable folder, or a new one whose parent exists and is writable."""
+    if directory.exists() and not directory.is_dir():
+        raise UserInputError(f"--figures: {directory} is not a folder")
+    folder = directory if directory.is_dir() else directory.parent
+    if not folder.is_dir():
+        raise UserInputError(f"--figures: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise UserInputError(f"--figures: folder {folder} is not writable")
+    return directory
+
+
+def paper_figure_names(case_key: str) -> tuple[str, str]:
+    """File names of a case's snapshot and time-series figures."""
+    return f"{case_key}_snapshots.png", f"{case_key}_timeseries.png"
+
+
+def write_paper_figures(directory: Path, dpi: float = PAPER_FIGURE_DPI) -> list[Path]:
+    """Simulate the paper's six runs traced; write per case its snapshot figure (rows V2X off / on, columns
+    at the key moments) and its time-series figure, all six files or none."""
+    from vrusim.io.atomic import write_together
+    from vrusim.paper.cases import CASES, paper_scenarios
+    from vrusim.viz.recording import record
+    from vrusim.viz.snapshots import snapshot_figure
+    from vrusim.viz.timeseries import timeseries_figure
+
+    runs = paper_scenarios()
+    recordings = record([scenario for _, _, scenario in runs])
+    targets = []
+    for case in CASES:
+        pair = [rec for (c, _, _), rec in zip(runs, recordings, strict=True) if c.key == case.key]
+        snapshots, timeseries = paper_figure_names(case.key)
+        for name, fig in ((snapshots, snapshot_figure(pair)), (timeseries, timeseries_figure(pair))):
+            targets.append((directory / name, _saver(fig, dpi), "figure"))
+    try:
+        directory.mkdir(exist_ok=True)
+        return write_together(targets)
+    except (OSError, UserInputError) as error:
+        raise UserInputError(f"--figures: {error}") from None
+
+
+def _saver(fig, dpi: float):
+    return lambda temp: fig.savefig(temp, format="png", dpi=dpi)

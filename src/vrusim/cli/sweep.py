@@ -1,0 +1,155 @@
+"""`vrusim sweep`: a parameter sweep or Monte Carlo study into a resumable Parquet results folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    ProgressColumn,
+    Task,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+from rich.text import Text
+
+from vrusim.cli.options import console, print_json, user_errors
+
+INTERRUPTED_EXIT_CODE = 130
+"""Exit code after Ctrl-C (128 + SIGINT), as a shell reports it."""
+
+
+class RateColumn(ProgressColumn):
+    """Variants per second over the recent batches."""
+
+    def render(self, task: Task) -> Text:
+        speed = task.finished_speed or task.speed
+        return Text("–" if speed is None else f"{speed:,.0f} variants/s", style="progress.data.speed")
+
+
+def sweep_command(
+    spec_file: Annotated[
+        Path | None,
+        typer.Argument(metavar="[SPEC.yaml]", help="Sweep spec (not needed with --resume).", show_default=False),
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", help="Results folder (new, or the one to --resume).")] = Path(
+        "sweep-results"
+    ),
+    workers: Annotated[int, typer.Option("--workers", help="Local worker processes (default: all cores).")] = 0,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT", help="Run on this Dask cluster.")
+    ] = None,
+    batch_size: Annotated[
+        int | None, typer.Option("--batch-size", help="Variants per batch (default: the spec's).")
+    ] = None,
+    resume: Annotated[
+        bool, typer.Option("--resume", help="Continue the sweep in --out: run the missing batches.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    dry_run: Annotated[
+        bool, typer.Option("--dry-run", help="Plan, draw and check the variants; run and write nothing.")
+    ] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the outcome as one JSON document.")] = False,
+) -> None:
+    """Run every variant of a sweep spec; results go to OUT/chunks/*.parquet, batch by batch (resumable)."""
+    from vrusim.sweep.execute import SweepAbortedError, cpu_count
+    from vrusim.sweep.runner import dry_run as plan_only
+    from vrusim.sweep.runner import run_sweep
+    from vrusim.sweep.spec import load_spec
+
+    show = not quiet and not as_json
+    with user_errors():
+        spec = load_spec(spec_file) if spec_file is not None else None
+        if workers < 0:
+            from vrusim.errors import UserInputError
+
+            raise UserInputError("--workers: expected a positive number of worker processes (0: all cores)")
+        if dry_run:
+            if spec is None:
+                from vrusim.errors import UserInputError
+
+                raise UserInputError("SPEC: --dry-run needs a sweep spec file")
+            _print_plan(plan_only(spec, batch_size), as_json)
+            return
+        bar = Progress(
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            RateColumn(),
+            TimeElapsedColumn(),
+            TextColumn("left"),
+            TimeRemainingColumn(),
+            console=Console(stderr=True),
+            disable=not show,
+        )
+        task_id = bar.add_task("sweep", total=None)
+
+        def progress(done: int, total: int) -> None:
+            if not bar.live.is_started:  # the bar appears once the sweep is planned and checked
+                bar.start()
+            bar.update(task_id, completed=done, total=total)
+
+        try:
+            result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress)
+        except KeyboardInterrupt:
+            bar.stop()
+            typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
+            raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
+        except SweepAbortedError as error:
+            bar.stop()
+            typer.echo(f"Error: {error}; finished batches are saved in {out}; continue with --resume.", err=True)
+            raise typer.Exit(1) from None
+        finally:
+            bar.stop()
+    for warning in result.warnings:
+        typer.echo(f"Warning: {warning}", err=True)
+    document = {
+        "folder": str(result.folder),
+        "variants": result.variants,
+        "batches": result.chunks,
+        "batches_run": result.chunks_run,
+        "batches_reused": result.chunks_reused,
+        "elapsed_s": round(result.elapsed_s, 3),
+        "variants_per_s": round(result.variants_per_s, 1),
+    }
+    if as_json:
+        print_json(document)
+        return
+    console().print(
+        f"{result.variants:,} variants in {result.chunks} batches "
+        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {result.folder} "
+        f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
+        f"Summarize with: vrusim summarize {result.folder}"
+    )
+
+
+def _print_plan(plan: dict, as_json: bool) -> None:
+    if as_json:
+        print_json(plan)
+        return
+    out = console()
+    tests = f" × {plan['tests']} catalogue tests" if plan["tests"] else ""
+    out.print(
+        f"{plan['name']}: {plan['variants']:,} variants ({plan['grid_points']:,} grid points{tests} × "
+        f"{plan['samples']:,} samples) in {plan['batches']:,} batches of {plan['batch_size']:,}; seed {plan['seed']}"
+    )
+    for p in plan["parameters"]:
+        drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
+        settings = {k: v for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
+        out.print(f"  {p['name']}: {p['kind']} {settings}{drawn}", markup=False)
+    for c in plan["correlations"]:
+        ranks = c["drawn_rank_correlation"]
+        drawn = "" if ranks is None else f"  drawn rank correlation {ranks:+.3f}"
+        out.print(f"  correlation {c['between'][0]} ~ {c['between'][1]}: rho {c['rho']:+g}{drawn}", markup=False)
+    out.print(f"{plan['variants_checked']} variants built and checked; nothing run or written (--dry-run).")
+
+
+def register(app: typer.Typer) -> None:
+    """Add `sweep` to the `vrusim` app."""
+    app.command("sweep")(sweep_command)

@@ -1,0 +1,301 @@
+"""Streaming run metrics: reduced inside the step loop, so memory stays O(B), never O(B x steps).
+
+All per-variant accumulators live in one array `values[field, B]` updated by a compiled kernel; each field is
+readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/metrics.md.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vrusim.geometry.contact import clearance_local, to_local
+from vrusim.kernels import batch_kernel, prange
+from vrusim.sim.params import BatchParams
+
+FIELDS = (
+    "peak_accel_mps2",
+    "peak_decel_mps2",
+    "peak_jerk_mps3",
+    "peak_lateral_accel_mps2",
+    "sum_accel_sq",
+    "sum_jerk_sq",
+    "elapsed_s",
+    "min_clearance_m",
+    "min_clearance_time_s",
+    "min_ttc_s",
+    "min_ttc_time_s",
+    "travel_time_s",
+    "contact_time_s",
+    "impact_ego_speed_mps",
+    "impact_relative_speed_mps",
+    "impact_relative_longitudinal_mps",
+    "impact_local_x_m",
+    "impact_local_y_m",
+    "impact_vru",
+    "first_sensor_s",
+    "first_v2x_s",
+    "end_time_s",
+    "final_speed_mps",
+    "final_station_m",
+    "prev_actuator",
+    "prev_clearance",
+    "prev_speed",
+    "prev_ttc_s",
+    "prev_ttc_vru",
+    "first_warning_s",
+    "warning_ttc_s",
+)
+"""Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
+_I = {name: index for index, name in enumerate(FIELDS)}
+(
+    PEAK_A,
+    PEAK_D,
+    PEAK_J,
+    PEAK_LAT,
+    SUM_A2,
+    SUM_J2,
+    ELAPSED,
+    MIN_CLR,
+    MIN_CLR_T,
+    MIN_TTC,
+    MIN_TTC_T,
+    TRAVEL,
+    CONTACT_T,
+    IMPACT_V,
+    IMPACT_REL,
+    IMPACT_REL_LONG,
+    IMPACT_X,
+    IMPACT_Y,
+    IMPACT_VRU,
+    FIRST_SENSOR,
+    FIRST_V2X,
+    END_T,
+    FINAL_V,
+    FINAL_S,
+    PREV_ACT,
+    PREV_CLR,
+    PREV_V,
+    PREV_TTC,
+    PREV_TTC_VRU,
+    FIRST_WARNING,
+    WARNING_TTC,
+) = range(len(FIELDS))
+
+
+class RunMetrics:
+    """Per-variant summaries of a batch run, accumulated step by step."""
+
+    def __init__(self, params: BatchParams, n_modes: int):
+        B = params.size
+        self.params = params
+        values = np.zeros((len(FIELDS), B))
+        nan_rows = (
+            MIN_CLR_T,
+            MIN_TTC_T,
+            TRAVEL,
+            CONTACT_T,
+            IMPACT_V,
+            IMPACT_REL,
+            IMPACT_REL_LONG,
+            IMPACT_X,
+            IMPACT_Y,
+            FIRST_SENSOR,
+            FIRST_V2X,
+            FIRST_WARNING,
+            WARNING_TTC,
+        )
+        values[list(nan_rows)] = np.nan
+        values[[MIN_CLR, MIN_TTC, PREV_CLR, PREV_TTC]] = np.inf
+        values[IMPACT_VRU] = -1
+        values[FINAL_V] = params.start_speed_mps
+        values[PREV_V] = params.start_speed_mps
+        self.values = values
+        self.collided = np.zeros(B, dtype=bool)
+        self.first_mode_s = np.full((B, n_modes), np.nan)
+        self.transitions: list[tuple[float, int, int, int]] = []
+        self._variant = np.arange(B)
+        """Each row's variant number in the batch `transitions` refer to (rows differ in a `subset`)."""
+
+    def subset(self, index: np.ndarray, params: BatchParams) -> RunMetrics:
+        """The metrics of rows `index` (ascending), to go on with `params` packed for them; `merge` writes
+        them back. Both share one list of transitions, which keeps the variant numbers of this batch."""
+        sub = RunMetrics.__new__(RunMetrics)
+        sub.params = params
+        sub.values = np.ascontiguousarray(self.values[:, index])
+        sub.collided = self.collided[index]
+        sub.first_mode_s = self.first_mode_s[index]
+        sub.transitions = self.transitions
+        sub._variant = self._variant[index]
+        return sub
+
+    def merge(self, sub: RunMetrics) -> None:
+        """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
+        rows = sub._variant
+        self.values[:, rows] = sub.values
+        self.collided[rows] = sub.collided
+        self.first_mode_s[rows] = sub.first_mode_s
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        index = _I.get(name)
+        if index is None:
+            raise AttributeError(name)
+        return self.values[index]
+
+    def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
+        """First times any VRU is perceived by the sensor / received over V2X."""
+        _record_detection(self.params.size, t_s, active, sensed, v2x_received, self.values)
+
+    def record_warning(self, t_s: float, active, warning) -> None:
+        """First forward-collision warning of each variant, with the TTC of the state it was issued on."""
+        values = self.values
+        new = np.asarray(active) & np.asarray(warning, dtype=bool) & np.isnan(values[FIRST_WARNING])
+        if new.any():
+            values[FIRST_WARNING, new] = t_s
+            values[WARNING_TTC, new] = values[PREV_TTC, new]
+
+    def record_modes(self, t_s: float, active, old_mode, new_mode) -> None:
+        """Every planner state transition, with its time."""
+        rows = np.flatnonzero(active & (old_mode != new_mode))
+        if rows.size:
+            first = self.first_mode_s
+            olds, news = (np.asarray(mode)[rows].astype(np.int64).tolist() for mode in (old_mode, new_mode))
+            for b, variant, old, new in zip(rows.tolist(), self._variant[rows].tolist(), olds, news, strict=True):
+                self.transitions.append((t_s, variant, old, new))
+                if math.isnan(first[b, new]):
+                    first[b, new] = t_s
+
+    def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus) -> None:
+        """Fold one step (ending at t_s) into the summaries of the active variants."""
+        p = self.params
+        _record_step(
+            self.params.size,
+            t_s,
+            self.params.dt_s,
+            active,
+            ego.speed_mps,
+            ego.accel_mps2,
+            ego.actuator_mps2,
+            ego.curvature_per_m,
+            ego.station_m,
+            ego.heading_x,
+            ego.heading_y,
+            moving_before,
+            self.params.route_length_m,
+            clearance,
+            outline_x,
+            outline_y,
+            ttc,
+            vrus.kinematics,
+            ego.centre_x_m,
+            ego.centre_y_m,
+            p.half_length_m,
+            p.half_width_m,
+            p.vru_radius_m,
+            self.values,
+            self.collided,
+        )
+
+
+@batch_kernel
+def _record_detection(t, active, sensed, received, values):  # pragma: no cover (compiled)
+    B, K = sensed.shape
+    for b in prange(B):
+        if not active[b]:
+            continue
+        for k in range(K):
+            if sensed[b, k] and np.isnan(values[FIRST_SENSOR, b]):
+                values[FIRST_SENSOR, b] = t
+            if received[b, k] and np.isnan(values[FIRST_V2X, b]):
+                values[FIRST_V2X, b] = t
+
+
+@batch_kernel
+def _record_step(
+    t,
+    dt,
+    active,
+    speed,
+    accel,
+    actuator,
+    curvature,
+    station,
+    hx,
+    hy,
+    moving_before,
+    route_length,
+    clearance,
+    outline_x,
+    outline_y,
+    ttc,
+    vru,
+    centre_x,
+    centre_y,
+    half_length,
+    half_width,
+    radius,
+    m,
+    collided,
+):  # pragma: no cover (compiled)
+    B, K = clearance.shape
+    for b in prange(B):
+        if not active[b]:
+            m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
+            continue
+        jerk = (actuator[b] - m[PREV_ACT, b]) / dt if moving_before[b] else 0.0
+        a = accel[b]
+        m[PEAK_A, b] = max(m[PEAK_A, b], a)
+        m[PEAK_D, b] = max(m[PEAK_D, b], -a)
+        m[PEAK_J, b] = max(m[PEAK_J, b], abs(jerk))
+        m[PEAK_LAT, b] = max(m[PEAK_LAT, b], speed[b] * speed[b] * abs(curvature[b]))
+        m[SUM_A2, b] += a * a * dt
+        m[SUM_J2, b] += jerk * jerk * dt
+        m[ELAPSED, b] += dt
+        closest, nearest, soonest, soonest_k = np.inf, 0, np.inf, 0
+        for k in range(K):
+            if clearance[b, k] < closest:
+                closest, nearest = clearance[b, k], k
+            if ttc[b, k] < soonest:
+                soonest, soonest_k = ttc[b, k], k
+        if closest < m[MIN_CLR, b]:
+            m[MIN_CLR, b], m[MIN_CLR_T, b] = closest, t
+        if soonest < m[MIN_TTC, b]:
+            m[MIN_TTC, b], m[MIN_TTC_T, b] = soonest, t
+        if np.isnan(m[TRAVEL, b]) and station[b] >= route_length[b]:
+            # interpolated inside the step, so a free-flow trip takes exactly length / speed whatever dt
+            before = m[FINAL_S, b]
+            frac = (route_length[b] - before) / (station[b] - before) if station[b] > before else 1.0
+            m[TRAVEL, b] = t - dt + min(max(frac, 0.0), 1.0) * dt
+        # Swept test: the bodies also touched inside this step if, at its start, the time-to-collision under
+        # constant velocities was at most dt (a fast VRU can pass through the ego between two step ends).
+        swept = m[PREV_TTC, b] <= dt
+        if not collided[b] and (closest <= 0.0 or swept):
+            if swept:  # contact time from the TTC at the step start
+                frac = m[PREV_TTC, b] / dt
+                nearest = int(m[PREV_TTC_VRU, b])
+            else:  # time and ego speed interpolated where the clearance crossed zero in this step
+                before = m[PREV_CLR, b]
+                frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
+            frac = min(max(frac, 0.0), 1.0)
+            collided[b] = True
+            m[CONTACT_T, b] = t - dt + frac * dt
+            m[IMPACT_V, b] = m[PREV_V, b] + frac * (speed[b] - m[PREV_V, b])
+            rvx = speed[b] * hx[b] - vru[2, b, nearest]
+            rvy = speed[b] * hy[b] - vru[3, b, nearest]
+            m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
+            m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
+            if swept:  # impact point where the bodies met: step-end positions moved back along the relative motion
+                back = (1.0 - frac) * dt
+                px = vru[0, b, nearest] + rvx * back
+                py = vru[1, b, nearest] + rvy * back
+                lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
+                _, m[IMPACT_X, b], m[IMPACT_Y, b] = clearance_local(lx, ly, half_length[b], half_width[b], 0.0)
+                m[MIN_CLR, b] = min(m[MIN_CLR, b], 0.0)
+            else:
+                m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
+            m[IMPACT_VRU, b] = nearest
+        m[PREV_CLR, b] = closest
+        m[PREV_TTC, b], m[PREV_TTC_VRU, b] = soonest, soonest_k
+        m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
+        m[END_T, b], m[FINAL_V, b], m[FINAL_S, b] = t, speed[b], station[b]

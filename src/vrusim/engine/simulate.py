@@ -1,0 +1,140 @@
+"""The batch engine: advances B variants in lock-step with a fixed time step.
+
+Each step, from the state at time t: sensing (sector, occlusion → sensor model) → V2X (RSU → channel) → fused
+observation → planner → VRU triggers (judged on the ego state at t) and VRU motion to t + dt → ego motion to
+t + dt → contact check and streaming metrics (the step itself: vrusim.engine.stepper). A variant stops
+contributing to its metrics when it collides (if `stop_on_collision`), completes its route (if
+`stop_at_route_end`) or reaches its duration; the loop ends when every variant has stopped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from vrusim.engine.accumulators import RunMetrics
+from vrusim.engine.stepper import BatchStepper
+from vrusim.errors import UserInputError
+from vrusim.planners.base import Planner
+from vrusim.planners.registry import make_planner
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.compaction import compactable
+from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.v2x.messages import Channel
+
+
+@dataclass
+class BatchRun:
+    """Everything a batch run produced: parameters, streamed metrics, planner mode names, optional trace."""
+
+    params: BatchParams
+    metrics: RunMetrics
+    mode_names: tuple[str, ...]
+    trace: dict[str, np.ndarray] | None = None
+    steps: int = 0
+
+
+def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
+    names = {s.planner.name for s in scenarios}
+    if len(names) != 1:
+        raise UserInputError(f"planner.name: one batch runs one planner, got {sorted(names)}")
+    return make_planner(names.pop())
+
+
+COMPACT_BELOW = 0.8
+"""Drop stopped variants from the working set once fewer than this fraction of it are still running."""
+
+
+def simulate(
+    scenarios: Sequence[Scenario] | BatchParams,
+    planner: Planner | None = None,
+    channel: Channel | None = None,
+    trace: bool = False,
+) -> BatchRun:
+    """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace.
+
+    Without a trace, variants that have stopped are dropped from the working set as the run goes on (if the
+    planner, channel and sensor model all have a `compact` method); their results are final by then. A
+    planner or channel passed in then ends the run holding only the variants still running at its end.
+    """
+    batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    planner_name = batch.scenarios[0].planner.name if planner is None else type(planner).__name__
+    planner = planner if planner is not None else _planner_for(batch.scenarios)
+    planner.reset(batch)
+    mode_names = tuple(getattr(planner, "mode_names", ("running",)))
+    stepper = BatchStepper(batch, len(mode_names), channel)
+    recorder = TraceRecorder() if trace else None
+    can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
+    for _ in range(batch.n_steps):
+        observation = stepper.observe()
+        work, active = stepper.work, stepper.active
+        old_mode = getattr(planner, "mode", None)
+        old_mode = None if old_mode is None else old_mode.copy()
+        command = _checked_command(planner.act(observation), stepper.params.size, planner_name)
+        if old_mode is not None:
+            work.record_modes(observation.t_s, active, old_mode, planner.mode)
+        warning = getattr(planner, "warning", None)
+        if warning is not None:
+            work.record_warning(observation.t_s, active, warning)
+        running = stepper.advance(command)
+        if recorder is not None:
+            recorder.add(stepper, planner, command)
+        if running == 0:
+            break
+        if can_compact and running < COMPACT_BELOW * active.size:
+            planner.compact(stepper.compact())
+    return BatchRun(batch, stepper.finish(), mode_names, recorder.finish() if recorder else None, stepper.step_index)
+
+
+def _checked_command(command, size: int, name: str) -> np.ndarray:
+    """The planner's acceleration command as a finite float array of shape [B], or one clear error."""
+    try:
+        array = np.asarray(command, dtype=float)
+    except (TypeError, ValueError):
+        array = np.full(0, np.nan)
+    if array.shape != (size,) or not np.isfinite(array).all():
+        raise UserInputError(
+            f"planner.name: planner {name!r} must return a finite acceleration per variant, shape ({size},); "
+            f"got shape {array.shape}" + ("" if array.shape != (size,) else " with NaN or infinite values")
+        )
+    return array
+
+
+class TraceRecorder:
+    """Full time series for plots and trace files (only when asked: memory O(B x steps)).
+
+    Row i holds the state at t_s[i] = (i + 1) dt, and the detections, planner mode and command decided at
+    the start of that step (time t_s[i] - dt).
+    """
+
+    def __init__(self) -> None:
+        self.rows: dict[str, list[np.ndarray]] = {}
+
+    def _put(self, name: str, value) -> None:
+        self.rows.setdefault(name, []).append(np.array(value, copy=True))
+
+    def add(self, stepper: BatchStepper, planner: Planner, command: np.ndarray) -> None:
+        ego, vrus = stepper.ego, stepper.vrus
+        self._put("t_s", stepper.t_s)
+        self._put("ego_x_m", ego.centre_x_m)
+        self._put("ego_y_m", ego.centre_y_m)
+        self._put("ego_heading_x", ego.heading_x)
+        self._put("ego_heading_y", ego.heading_y)
+        self._put("ego_speed_mps", ego.speed_mps)
+        self._put("ego_accel_mps2", ego.accel_mps2)
+        self._put("ego_command_mps2", command)
+        self._put("ego_curvature_per_m", ego.curvature_per_m)
+        self._put("ego_station_m", ego.station_m)
+        self._put("planner_mode", getattr(planner, "mode", np.zeros(ego.x_m.shape, dtype=np.int8)))
+        self._put("vru_x_m", vrus.x_m)
+        self._put("vru_y_m", vrus.y_m)
+        self._put("vru_speed_mps", vrus.speed_mps)
+        self._put("vru_detected", stepper.detected)
+        self._put("vru_source", stepper.source)
+        self._put("clearance_m", stepper.clearance_m.min(axis=1))
+        self._put("ttc_s", stepper.ttc_s.min(axis=1))
+
+    def finish(self) -> dict[str, np.ndarray]:
+        return {name: np.stack(values) for name, values in self.rows.items()}

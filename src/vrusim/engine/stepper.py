@@ -1,0 +1,203 @@
+"""One step of the batch engine, driven from outside: `observe()`, then `advance(command)`.
+
+`simulate` (vrusim.engine.simulate) runs it with a planner's commands; Gymnasium environments (vrusim.gym) with an
+agent's. From the state at time t: `observe()` does sensing (sector, occlusion → sensor model), V2X (RSU →
+channel) and fusion and returns the planner observation; `advance(command)` moves the VRUs (triggers judged on
+the ego state at t) and the egos to t + dt, checks contact, folds the step into the streamed metrics and
+applies the stop rules. `compact()` drops stopped variants from the working set; `finish()` writes the working
+set's metrics back into the whole batch's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vrusim.engine.accumulators import RunMetrics
+from vrusim.geometry.contact import clearance_batch
+from vrusim.geometry.ttc import ttc_batch
+from vrusim.kernels import njit
+from vrusim.sim.compaction import take_ego, take_params, take_vrus
+from vrusim.sim.ego import advance_egos
+from vrusim.sim.observation import Observation, fuse
+from vrusim.sim.params import BatchParams
+from vrusim.sim.sensing.sector import sense
+from vrusim.sim.sensing.sensor_model import SensorModel, make_sensor_model
+from vrusim.sim.state import EgoState, initial_ego, initial_vrus
+from vrusim.sim.v2x.channel import make_channel
+from vrusim.sim.v2x.messages import Channel, rsu_broadcast
+from vrusim.sim.vru.motion import advance_vrus
+
+
+@dataclass
+class _Scratch:
+    """Per working set: read-only views of the state the planner observes, and reused step buffers."""
+
+    ego_view: list[np.ndarray]
+    route_offset: np.ndarray
+    radius: np.ndarray
+    fresh: np.ndarray
+    """Age of an ideal sensor's reports, s (0)."""
+    contact: np.ndarray
+    """Clearance, outline x, outline y [3, B, K], m."""
+    ttc: np.ndarray
+    """Time to collision per VRU [B, K], s."""
+
+
+def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
+    # kernels update the state arrays in place, views follow
+    ego_view = [
+        _read_only(a)
+        for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
+    ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
+    shape = params.vru_valid.shape
+    return _Scratch(
+        ego_view,
+        _read_only(params.route_offset),
+        _read_only(params.vru_radius_m),
+        np.zeros(params.size),
+        np.full((3, *shape), np.inf),  # before the first step: no contact known
+        np.full(shape, np.inf),
+    )
+
+
+class BatchStepper:
+    """B variants in lock-step. Per step: `observe()`, then `advance(command)` (m/s² per working-set variant).
+
+    `params`, `ego`, `vrus`, `active` and `work` (the metrics) describe the working set: all variants, or after
+    `compact()` those still running. `metrics` is the whole batch's; call `finish()` before reading it.
+    """
+
+    def __init__(
+        self, params: BatchParams, n_modes: int = 1, channel: Channel | None = None, sensor: SensorModel | None = None
+    ) -> None:
+        self.batch = params
+        self.params = params
+        self.channel = channel if channel is not None else make_channel(params)
+        self.sensor = sensor if sensor is not None else make_sensor_model(params)
+        self.channel.reset(params)
+        self.sensor.reset(params)
+        self.metrics = RunMetrics(params, n_modes)
+        self.work = self.metrics
+        self.ego = initial_ego(params)
+        self.vrus = initial_vrus(params)
+        self.active = np.ones(params.size, dtype=bool)
+        self.step_index = 0
+        self.detected = self.source = None
+        self._front: tuple[np.ndarray, np.ndarray] | None = None
+        self._scratch = _scratch(params, self.ego)
+
+    @property
+    def t_s(self) -> float:
+        """Time of the current state, s."""
+        return self.step_index * self.params.dt_s
+
+    @property
+    def clearance_m(self) -> np.ndarray:
+        """Clearance ego outline – VRU circle per VRU [B, K] after the last step, m (negative: overlap)."""
+        return self._scratch.contact[0]
+
+    @property
+    def ttc_s(self) -> np.ndarray:
+        """Time to collision per VRU [B, K] after the last step, s (inf: none)."""
+        return self._scratch.ttc
+
+    def observe(self) -> Observation:
+        """Sensing, V2X and fusion at the current time; first detections are recorded in the metrics."""
+        params, ego, vrus, scratch = self.params, self.ego, self.vrus, self._scratch
+        step, dt = self.step_index, params.dt_s
+        t = step * dt
+        front_x, front_y = ego.front_x_m.copy(), ego.front_y_m.copy()
+        visible = sense(params, front_x, front_y, ego, vrus)
+        sensed, sensed_kinematics = self.sensor.observe(step, t, visible, vrus.kinematics)
+        messages = self.channel.deliver(t, rsu_broadcast(params, ego.centre_x_m, ego.centre_y_m, vrus.kinematics))
+        sensor_age = self.sensor.age_s(step, dt)
+        detected, source, estimate = fuse(
+            sensed, sensed_kinematics, messages, scratch.fresh if sensor_age is None else sensor_age
+        )
+        self.work.record_detection(t, self.active, sensed, messages.received)
+        self._front = (front_x, front_y)
+        self.detected, self.source = detected, source
+        return Observation(
+            t, dt, *scratch.ego_view, params.routes, scratch.route_offset, detected, source, estimate, scratch.radius
+        )
+
+    def advance(self, command: np.ndarray) -> int:
+        """Move VRUs and egos to t + dt under `command`, check contact, record metrics, apply the stop rules;
+        return how many variants of the working set still run."""
+        if self._front is None:
+            raise RuntimeError("BatchStepper.advance: call observe() first in every step")
+        params, ego, vrus, scratch = self.params, self.ego, self.vrus, self._scratch
+        t = self.step_index * params.dt_s
+        front_x, front_y = self._front
+        self._front = None
+        moving_before = ego.speed_mps > 0.0
+        advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps, ego.station_m)
+        advance_egos(params, ego, command)
+        self.step_index += 1
+        t_next = self.step_index * params.dt_s
+        centre_x, centre_y = ego.centre_x_m, ego.centre_y_m
+        clearance_batch(
+            params.size, centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m,
+            params.half_width_m, vrus.x_m, vrus.y_m, params.vru_radius_m, scratch.contact,
+        )  # fmt: skip
+        ttc_batch(
+            params.size, centre_x, centre_y, ego.heading_x, ego.heading_y, params.half_length_m,
+            params.half_width_m, ego.speed_mps, vrus.x_m, vrus.y_m, params.vru_radius_m, vrus.vx_mps, vrus.vy_mps,
+            scratch.ttc,
+        )  # fmt: skip
+        clearance, outline_x, outline_y = scratch.contact
+        work = self.work
+        work.record_step(t_next, self.active, ego, moving_before, clearance, outline_x, outline_y, scratch.ttc, vrus)
+        return _update_active(
+            t_next,
+            self.active,
+            params.stop_on_collision,
+            work.collided,
+            params.stop_at_route_end,
+            work.travel_time_s,
+            params.duration_s,
+        )
+
+    def compact(self) -> np.ndarray:
+        """Drop the stopped variants from the working set (their results are final); return the kept rows of
+        the previous working set, for the planner's own `compact`."""
+        keep = np.flatnonzero(self.active)
+        self.params = take_params(self.params, keep)
+        self.ego, self.vrus = take_ego(self.ego, keep), take_vrus(self.vrus, keep)
+        self.channel.compact(keep)
+        self.sensor.compact(keep)
+        self.metrics.merge(self.work)
+        self.work = self.work.subset(keep, self.params)
+        self.active = np.ones(keep.size, dtype=bool)
+        self._scratch = _scratch(self.params, self.ego)
+        return keep
+
+    def finish(self) -> RunMetrics:
+        """The whole batch's metrics, with the working set's written back."""
+        if self.work is not self.metrics:
+            self.metrics.merge(self.work)
+        return self.metrics
+
+
+@njit(cache=True, _nrt=False)
+def _update_active(
+    t_next, active, stop_on_collision, collided, stop_at_route_end, travel_time, duration
+):  # pragma: no cover (compiled)
+    """Stop the variants that collided (if `stop_on_collision`), completed their route (if
+    `stop_at_route_end`) or reached their duration; return how many still run (serial: a reduction)."""
+    running = 0
+    for b in range(active.shape[0]):
+        if active[b]:
+            stop = (stop_on_collision[b] and collided[b]) or (stop_at_route_end[b] and travel_time[b] >= 0.0)
+            active[b] = not stop and t_next < duration[b] - 1e-9
+        running += 1 if active[b] else 0
+    return running
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only view, so that a planner cannot change the simulation state it observes."""
+    view = array.view()
+    view.flags.writeable = False
+    return view

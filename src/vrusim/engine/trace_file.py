@@ -1,0 +1,107 @@
+"""Per-step trace files of a run: one row per time step, CSV or Parquet chosen by the file suffix.
+
+Columns: t_s, the ego state and command, the planner mode (by name), the closest clearance and the smallest
+time-to-collision (null when infinite), then per VRU k: vru{k}_x_m, vru{k}_y_m, vru{k}_speed_mps,
+vru{k}_detected and vru{k}_source (bitmask: 1 sensor, 2 V2X). Absent or infinite values are written as
+null (an empty CSV field), never NaN. Files are written atomically: to a temporary file in the same folder,
+then renamed over the target, so a failure never leaves a half-written file behind.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.csv as pa_csv
+import pyarrow.parquet as pq
+
+from vrusim.engine.simulate import BatchRun
+from vrusim.errors import UserInputError
+from vrusim.io.atomic import write_atomically
+
+TRACE_SUFFIXES = (".csv", ".parquet")
+"""Supported trace file suffixes (case-insensitive)."""
+
+EGO_COLUMNS = (
+    "ego_x_m",
+    "ego_y_m",
+    "ego_speed_mps",
+    "ego_accel_mps2",
+    "ego_command_mps2",
+    "ego_curvature_per_m",
+    "ego_station_m",
+)
+
+
+def trace_format(path: str | Path) -> str:
+    """'csv' or 'parquet' from the file suffix; UserInputError for anything else."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in TRACE_SUFFIXES:
+        shown = f"'{Path(path).suffix}'" if Path(path).suffix else "no suffix"
+        raise UserInputError(f"{path}: unsupported trace file type ({shown}); use a .csv or .parquet file name")
+    return suffix.removeprefix(".")
+
+
+def check_trace_path(path: str | Path) -> str:
+    """Validate a trace file name before any work: its suffix and its folder. Returns 'csv' or 'parquet'."""
+    path = Path(path)
+    kind = trace_format(path)
+    if not path.parent.is_dir():
+        raise UserInputError(f"{path}: cannot write trace, folder {path.parent} does not exist")
+    if path.is_dir():
+        raise UserInputError(f"{path}: cannot write trace, it is a folder")
+    return kind
+
+
+def _floats(values: np.ndarray) -> pa.Array:
+    """Float column with every NaN or infinity turned into null."""
+    values = np.asarray(values, dtype=float)
+    return pa.array(values, type=pa.float64(), mask=~np.isfinite(values))
+
+
+def trace_table(run: BatchRun, variant: int = 0) -> pa.Table:
+    """The trace of one variant of a run as an Arrow table, one row per step."""
+    trace = run.trace
+    if trace is None:
+        raise ValueError("this run has no trace: simulate(..., trace=True)")
+    if not 0 <= variant < run.params.size:
+        raise ValueError(f"variant {variant} out of range for a batch of {run.params.size}")
+    b = variant
+    columns: dict[str, pa.Array] = {"t_s": _floats(np.round(trace["t_s"], 9))}
+    for name in EGO_COLUMNS[:2]:
+        columns[name] = _floats(trace[name][:, b])
+    heading = np.degrees(np.arctan2(trace["ego_heading_y"][:, b], trace["ego_heading_x"][:, b]))
+    columns["ego_heading_deg"] = _floats(heading)
+    for name in EGO_COLUMNS[2:]:
+        columns[name] = _floats(trace[name][:, b])
+    modes = np.asarray(trace["planner_mode"][:, b], dtype=int)
+    names = list(run.mode_names)
+    columns["planner_mode"] = pa.array(
+        [names[m] if 0 <= m < len(names) else str(m) for m in modes.tolist()], type=pa.string()
+    )
+    columns["clearance_m"] = _floats(trace["clearance_m"][:, b])
+    columns["ttc_s"] = _floats(trace["ttc_s"][:, b])
+    valid = np.asarray(run.params.vru_valid[b], dtype=bool)
+    for k in np.flatnonzero(valid).tolist():
+        columns[f"vru{k}_x_m"] = _floats(trace["vru_x_m"][:, b, k])
+        columns[f"vru{k}_y_m"] = _floats(trace["vru_y_m"][:, b, k])
+        columns[f"vru{k}_speed_mps"] = _floats(trace["vru_speed_mps"][:, b, k])
+        columns[f"vru{k}_detected"] = pa.array(np.asarray(trace["vru_detected"][:, b, k], dtype=bool))
+        columns[f"vru{k}_source"] = pa.array(np.asarray(trace["vru_source"][:, b, k], dtype=np.int8))
+    return pa.table(columns)
+
+
+def write_trace(run: BatchRun, path: str | Path, variant: int = 0) -> int:
+    """Write the per-step trace of `variant` to `path` (.csv or .parquet), atomically; return the row count.
+
+    Raises UserInputError (naming the file) for an unsupported suffix or when the file cannot be written.
+    """
+    path = Path(path)
+    kind = check_trace_path(path)
+    table = trace_table(run, variant)
+    if kind == "csv":
+        write_atomically(path, lambda temp: pa_csv.write_csv(table, temp), "trace")
+    else:
+        write_atomically(path, lambda temp: pq.write_table(table, temp), "trace")
+    return table.num_rows

@@ -1,0 +1,102 @@
+"""Compile batch kernels twice: serial for small batches, multi-threaded over variants for large ones.
+
+A batch kernel loops over variants with `numba.prange`; variants never interact, so both versions give
+bit-identical results. Threads only pay off for large batches (starting them costs ~10 µs per call), and
+never when numba runs on one thread (a sweep worker process): then the serial version runs whatever the size.
+Batch kernels write into arrays their caller allocates, so both versions compile without numba's reference
+counting (`_nrt=False`), which would otherwise increment and decrement array counts inside the loops.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+import types
+from collections.abc import Callable
+from pathlib import Path
+
+import numba
+import platformdirs
+from numba import njit, prange
+
+from vrusim.version import source_digest
+
+__all__ = ["PARALLEL_MIN_BATCH", "BatchKernel", "batch_kernel", "kernel_cache_folder", "njit", "prange"]
+
+KERNEL_CACHE_UNUSED_DAYS = 7
+"""A kernel cache folder of another source version that has not been used for this long is deleted, days."""
+
+
+def kernel_cache_folder() -> Path | None:
+    """Where numba keeps this source version's compiled kernels; None when the user chose (NUMBA_CACHE_DIR)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return None
+    return Path(platformdirs.user_cache_dir("vrusim", appauthor=False)) / "kernels" / source_digest()[:16]
+
+
+def _configure_kernel_cache() -> None:
+    """Keep compiled kernels in a cache folder keyed by a hash of this package's source.
+
+    Numba checks only a kernel's own file when reusing cached machine code; kernels inline helpers from other
+    modules, so a change there could otherwise run stale code. A user-set NUMBA_CACHE_DIR is respected.
+    Every source edit thus starts a new folder; folders of other versions unused for
+    `KERNEL_CACHE_UNUSED_DAYS` are deleted (using a folder refreshes its time stamp). Runs once, when this module
+    is first imported, before any kernel compiles; numba's own setting is changed, not the process environment,
+    so child processes choose the same folder the same way.
+    """
+    folder = kernel_cache_folder()
+    if folder is None:
+        return
+    numba.config.CACHE_DIR = str(folder)
+    prune_kernel_caches(folder.parent, keep=folder.name)
+
+
+def prune_kernel_caches(root: Path, keep: str, unused_days: float = KERNEL_CACHE_UNUSED_DAYS) -> None:
+    """Mark `root/keep` as used now; delete the other folders in `root` unused for `unused_days` (best effort)."""
+    try:
+        (root / keep).mkdir(parents=True, exist_ok=True)
+        os.utime(root / keep)
+        oldest = time.time() - unused_days * 86400.0
+        for entry in root.iterdir():
+            if entry.name != keep and entry.is_dir() and entry.stat().st_mtime < oldest:
+                shutil.rmtree(entry, ignore_errors=True)
+    except OSError:  # a read-only or shared cache: leave it as it is
+        pass
+
+
+_configure_kernel_cache()
+
+PARALLEL_MIN_BATCH = 4096
+"""Batches with at least this many variants run the multi-threaded version (if numba has several threads)."""
+
+
+class BatchKernel:
+    """A kernel whose first argument's leading axis (or `size=`) chooses serial or parallel execution."""
+
+    def __init__(self, function: Callable):
+        self.serial = njit(cache=True, _nrt=False)(function)
+        # a renamed copy, so that the on-disk caches of the two versions do not collide
+        self.parallel = njit(cache=True, parallel=True, _nrt=False)(_renamed(function, "_threaded"))
+        self.__doc__ = function.__doc__
+
+    def __call__(self, size: int, *args):
+        if size >= PARALLEL_MIN_BATCH and numba.get_num_threads() > 1:
+            return self.parallel(*args)
+        return self.serial(*args)
+
+
+def batch_kernel(function: Callable) -> BatchKernel:
+    """Decorator: compile `function` (which loops over variants with `prange`, allocates nothing) as a
+    `BatchKernel`."""
+    return BatchKernel(function)
+
+
+def _renamed(function: Callable, suffix: str) -> Callable:
+    """A copy of `function` whose name (and so numba's cache file) carries `suffix`."""
+    clone = types.FunctionType(
+        function.__code__, function.__globals__, function.__name__ + suffix, function.__defaults__, function.__closure__
+    )
+    clone.__qualname__ = function.__qualname__ + suffix
+    clone.__module__ = function.__module__
+    return clone

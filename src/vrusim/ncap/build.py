@@ -1,0 +1,447 @@
+"""Turn one Euro NCAP catalogue test (scenario × VUT speed × variant × lighting) into an executable Scenario.
+
+World frame: the VUT approaches along +x in the right lane (y = -lane/2) of a two-lane road (or a junction
+centred on the origin). Every target is synchronised so that, if the VUT does not react, its reference point
+meets the nominal impact location on the VUT front (rear when reversing): we find the route station where
+that point of the VUT crosses the target's path, and start the target — with a route-distance trigger —
+exactly its travel time earlier. Geometry choices are listed in docs/euroncap.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
+from vrusim.ncap.protocol import (
+    DUMMIES,
+    KPH,
+    LANE_WIDTH_M,
+    OBSTRUCTION_CARS,
+    OBSTRUCTIONS,
+    TURN_PATHS,
+    Cell,
+    Dummy,
+    NcapScenario,
+)
+from vrusim.scenario.routes import ego_route_spec
+from vrusim.scenario.schema import Ego, Route, Scenario
+
+VUT: dict[str, Any] = {
+    "length_m": 4.5,
+    "width_m": 1.8,
+    "wheelbase_m": 2.7,
+    "rear_overhang_m": 0.9,
+    "max_decel_mps2": 9.0,
+    "max_jerk_mps3": 30.0,
+    "actuator_lag_s": 0.1,
+}
+"""Vehicle under test: a mid-size car; braking limits of a modern AEB (our choice, docs/euroncap.md)."""
+
+LANE_Y_M = -LANE_WIDTH_M / 2
+"""Centre line of the VUT's approach lane, m."""
+LEAD_TIME_S = 4.5
+"""The VUT starts at least this long (at test speed) before the nominal impact: T0 = TTC 4 s plus 0.5 s."""
+TAIL_TIME_S = 6.0
+"""Simulated time after the nominal impact, s (enough to brake to a stop from 130 km/h)."""
+EXIT_LENGTH_M = 25.0
+"""Route beyond the nominal impact point (or the end of a turn), m."""
+RSU_OFFSET_M = (5.0, 5.0)
+"""Roadside unit position relative to the nominal impact point, m (our choice)."""
+RSU_COMM_RANGE_M, RSU_COVERAGE_M = 250.0, 40.0
+SENSOR_RANGE_M, SENSOR_FOV_DEG = 20.0, 120.0
+"""The onboard sensor of the VUT: the paper's default sector (day)."""
+REVERSE_START_M = 10.0
+"""A reversing VUT starts this far before the collision point (V23; not given by the protocol)."""
+BRAKE_AFTER_S = 1.5
+"""CMRb: the motorcycle starts braking this long into the run (T0 = braking onset - 1 s, FC26)."""
+INSTANT_ACCEL_MPS2 = 1e3
+"""Acceleration of a target with no acceleration distance (reaches its speed within one step)."""
+
+
+@dataclass(frozen=True)
+class NcapTest:
+    """One executable test of the catalogue: a scenario, one cell of its grid, and the lighting."""
+
+    spec: NcapScenario
+    cell: Cell
+    lighting: str
+
+    @property
+    def test_id(self) -> str:
+        """`CODE/<speed>kph[/variant]/<lighting>`, unique in the catalogue."""
+        variant = f"/{self.cell.variant}" if self.cell.variant else ""
+        return f"{self.spec.code}/{self.cell.vut_speed_kph:g}kph{variant}/{self.lighting}"
+
+    @property
+    def dummy(self) -> Dummy:
+        """The target of this cell."""
+        return DUMMIES[self.cell.target or self.spec.target]
+
+    @property
+    def impact_location(self) -> float:
+        """Impact location, a fraction of the VUT's width (or of its length for side impacts)."""
+        return self.cell.impact_location if self.cell.impact_location is not None else self.spec.impact_location
+
+    @property
+    def target_speed_mps(self) -> float:
+        """The target's steady speed, m/s (the VUT's speed for a target driving ahead with a headway)."""
+        if self.spec.headway_s > 0:
+            return self.cell.vut_speed_kph * KPH
+        kph = self.cell.target_speed_kph if self.cell.target_speed_kph is not None else self.spec.target_speed_kph
+        return kph * KPH
+
+
+@dataclass(frozen=True)
+class Nominal:
+    """Where and when the target meets the VUT if the VUT does not react (world frame, SI units)."""
+
+    impact_x_m: float
+    impact_y_m: float
+    time_s: float
+    local_x_m: float
+    """The nominal impact location in the simulated VUT frame: ahead of the rectangle centre, m ..."""
+    local_y_m: float
+    """... and left of it, m (a reversing VUT is simulated mirrored: its travel direction is ahead)."""
+    ref_behind_centre_m: float
+    """The reference point lies this far behind the footprint centre along the target's heading, m."""
+    target_heading_rad: float
+    steady_from_s: float
+    """Time from which the target holds its steady speed, s (a standing target: 0)."""
+
+
+@dataclass(frozen=True)
+class BuiltTest:
+    """A catalogue test as a validated Scenario plus its nominal impact."""
+
+    test: NcapTest
+    scenario: Scenario
+    nominal: Nominal
+
+
+def _ego_geometry(reverse: bool) -> tuple[float, float]:
+    """(rear axle → leading edge, rear axle → rectangle centre) in the direction of travel, m."""
+    length, wheelbase, rear = VUT["length_m"], VUT["wheelbase_m"], VUT["rear_overhang_m"]
+    trailing = length - wheelbase - rear if reverse else rear
+    return length - trailing, length / 2 - trailing
+
+
+def _vut_point(test: NcapTest) -> tuple[float, float]:
+    """The point of the VUT the target meets, in the simulated frame: (ahead of the rear axle, left of the
+    centre line), m. Front impacts: `impact_location` of the width on the leading edge, 0 = the vehicle's
+    right edge (ISO 8855; for a reversing VUT, whose simulated frame is mirrored, the body's right edge).
+    Side impacts: `impact_location` of the length from the rear, on the left or right side."""
+    spec = test.spec
+    reverse = spec.layout == "reverse"
+    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
+    if spec.impact_side != "front":
+        along = test.impact_location * VUT["length_m"] - (VUT["length_m"] / 2 - rear_to_centre)
+        return along, (VUT["width_m"] / 2) * (1.0 if spec.impact_side == "left" else -1.0)
+    across = (test.impact_location - 0.5) * VUT["width_m"]
+    return rear_to_edge, -across if reverse else across
+
+
+def _footprint(test: NcapTest) -> tuple[float, float]:
+    """(radius, distance of the footprint centre ahead of the reference point), m, for the face the VUT meets.
+
+    The circle has the target's half width and sits at the part of the target that meets the VUT: against
+    the rear face for targets ahead (reference: rear of the rear wheel / back), against the front face where
+    the reference is the front of the front wheel (turning and oncoming cyclists and motorcycles), else at the
+    box centre (crossing targets; pedestrians in turns, whose reference is the hip).
+    """
+    dummy, spec = test.dummy, test.spec
+    radius = dummy.width_m / 2
+    if spec.layout in ("longitudinal", "rear"):
+        centre, use = radius, "longitudinal"
+    elif spec.layout in ("turning", "oncoming") and "turning" in dummy.ref_from_rear_m:
+        centre, use = dummy.length_m - radius, "turning"
+    else:
+        centre, use = dummy.length_m / 2, "crossing"
+    return radius, centre - dummy.ref_from_rear_m[use]
+
+
+def _route_samples(ego: dict) -> np.ndarray:
+    """The sampled rear-axle route of an ego mapping: [N, 5] x, y, tangent x, tangent y, curvature."""
+    return sample_path(ego_route_spec(Ego.model_validate(ego)))
+
+
+def _crossing(
+    samples: np.ndarray, along_m: float, left_m: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[float, np.ndarray]:
+    """First route station (m) where the VUT's point (`along_m` ahead of the rear axle, `left_m` left of the
+    centre line) crosses the line through `point` along `direction`, and that crossing point (world, m)."""
+    xy, tangent = samples[:, :2], samples[:, 2:4]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    moving = xy + along_m * tangent + left_m * normal
+    rel = moving - point
+    side = direction[0] * rel[:, 1] - direction[1] * rel[:, 0]
+    change = np.flatnonzero(np.sign(side[:-1]) * np.sign(side[1:]) <= 0)
+    if len(change) == 0:
+        raise ValueError("the VUT route never crosses the target path")
+    i = int(change[0])
+    frac = side[i] / (side[i] - side[i + 1]) if side[i] != side[i + 1] else 0.0
+    return (i + frac) * SAMPLE_SPACING_M, moving[i] + frac * (moving[i + 1] - moving[i])
+
+
+def ncap_turn_route(side: str, speed_kph: float, turn_at_m: float, exit_m: float) -> Route:
+    """The protocol's turning route for `side` ("farside" = left, "nearside" = right) at `speed_kph`:
+    `turn_at_m` of straight approach, the clothoid – arc – clothoid turn, `exit_m` of straight exit."""
+    if (side, speed_kph) not in TURN_PATHS:
+        raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph:g} km/h; known: {sorted(TURN_PATHS)}")
+    path = TURN_PATHS[side, speed_kph]
+    alpha = math.radians(path.clothoid_angle_deg)
+    clothoid_m = 2 * alpha / (1 / path.entry_radius_m + 1 / path.radius_m)
+    turn_m = 2 * clothoid_m + path.radius_m * math.radians(path.arc_angle_deg)
+    return Route(
+        kind="left" if side == "farside" else "right",
+        turn_at_m=turn_at_m,
+        radius_m=path.radius_m,
+        angle_deg=path.arc_angle_deg,
+        clothoid_angle_deg=path.clothoid_angle_deg,
+        clothoid_entry_radius_m=path.entry_radius_m,
+        length_m=turn_at_m + turn_m + exit_m,
+    )
+
+
+def _target_line(test: NcapTest) -> tuple[np.ndarray, np.ndarray]:
+    """A point on the target's path and its unit direction (world frame)."""
+    spec = test.spec
+    if spec.layout == "crossing":
+        junction_x = LANE_WIDTH_M / 2 if "junction" in spec.tags else 0.0
+        if spec.side == "farside":
+            return np.array([-junction_x, 0.0]), np.array([0.0, -1.0])
+        return np.array([junction_x, 0.0]), np.array([0.0, 1.0])
+    if spec.layout in ("turning", "oncoming"):
+        y = spec.target_line_m if spec.turn == "farside" else -spec.target_line_m
+        forward = spec.moves_with_vut and spec.layout == "turning"
+        return np.array([0.0, y]), np.array([1.0 if forward else -1.0, 0.0])
+    if spec.layout == "reverse":  # crossing the rear path from the body's right (the VUT faces +x)
+        return np.array([0.0, 0.0]), np.array([0.0, 1.0])
+    return np.array([0.0, 0.0]), np.array([1.0, 0.0])  # longitudinal, rear: ahead, same direction
+
+
+def _target_travel(test: NcapTest) -> str:
+    """How the target moves: "rest" (triggered, accelerates, then steady), "flying" (steady from t = 0),
+    "still" (stationary) or "braking" (ahead at the VUT's speed, then brakes)."""
+    spec = test.spec
+    if spec.layout == "rear":
+        return "braking" if spec.headway_s > 0 else "still"
+    if test.target_speed_mps == 0.0:
+        return "still"
+    if spec.layout == "oncoming" or "flying" in spec.tags:
+        return "flying"
+    return "rest"
+
+
+def _time_to_impact_from_rest(distance_m: float, accel_m: float, speed_mps: float) -> float:
+    """Time to cover `distance_m` from rest: uniform acceleration over `accel_m`, then constant speed, s."""
+    if accel_m <= 0:
+        return distance_m / speed_mps
+    return 2 * accel_m / speed_mps + (distance_m - accel_m) / speed_mps
+
+
+def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> BuiltTest:
+    """The executable Scenario of one catalogue test, and its nominal impact."""
+    spec = test.spec
+    v = test.cell.vut_speed_kph * KPH
+    along, left = _vut_point(test)
+    kind = _target_travel(test)
+    point, direction = _target_line(test)
+    impact, turn = _impact_point(test, along, left, point, direction)
+    start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
+    ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), turn)
+    impact_time = station / v
+    radius, centre_ahead = _footprint(test)
+    vru: dict[str, Any] = {"type": test.dummy.vru_type.value, "radius_m": radius, "speed_time_constant_s": 0.0}
+    v_target = test.target_speed_mps
+    steady_from = 0.0
+    if kind == "rest":
+        trigger_m = station - v * target_time
+        if trigger_m < 0.0:
+            raise ValueError(f"{test.test_id}: the VUT starts too late to synchronise the target")
+        accel_m = spec.accel_distance_m
+        vru.update(
+            top_speed_mps=v_target,
+            max_accel_mps2=v_target * v_target / (2 * accel_m) if accel_m > 0 else INSTANT_ACCEL_MPS2,
+            trigger={"ego_route_m": trigger_m},
+        )
+        steady_from = impact_time - target_time + 2 * accel_m / v_target
+    elif kind == "flying":
+        start = impact - direction * v_target * impact_time
+        vru.update(top_speed_mps=v_target, initial_speed_mps=v_target, trigger={"at_time_s": 0.0})
+    elif kind == "still":
+        vru.update(top_speed_mps=0.0)
+        if spec.layout == "reverse":  # standing with its back to the VUT's path side: facing -y
+            direction = np.array([0.0, -1.0])
+    else:
+        start, impact, impact_time = _braking_lead(test, v, station, left, vru)
+        ego["route"]["length_m"] = float(impact[0] - (point[0] - station)) + EXIT_LENGTH_M
+    centre = start + direction * centre_ahead
+    heading = math.atan2(direction[1], direction[0])
+    vru.update(start={"x_m": float(centre[0]), "y_m": float(centre[1])}, heading_deg=math.degrees(heading))
+    scenario = Scenario.model_validate(_scenario_mapping(test, planner, v2x, ego, vru, impact, impact_time))
+    rear_to_centre = _ego_geometry(spec.layout == "reverse")[1]
+    nominal = Nominal(
+        float(impact[0]), float(impact[1]), impact_time, along - rear_to_centre, left, centre_ahead, heading,
+        steady_from,
+    )  # fmt: skip
+    return BuiltTest(test, scenario, nominal)
+
+
+def _impact_point(
+    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[np.ndarray, tuple[float, float] | None]:
+    """Nominal impact point (world, m) and, for turns, (route distance from the start of the turn to the
+    impact, x of the turn start). On straight roads the impact lies on the plane x = point x."""
+    spec = test.spec
+    if spec.layout in ("turning", "oncoming"):
+        station, impact, turn_start_x = _turn_probe(test, along, left, point, direction)
+        return impact, (station, turn_start_x)
+    travel_left = -1.0 if spec.layout == "reverse" else 1.0  # the left of a VUT travelling -x is -y
+    return np.array([point[0], LANE_Y_M + travel_left * left]), None
+
+
+def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
+    """Start of the reference point of a target starting from rest, and its time to the impact, s."""
+    spec = test.spec
+    if spec.layout == "crossing":  # lateral_offset_m: from the VUT path centre line
+        start = np.array([impact[0], LANE_Y_M - spec.lateral_offset_m * direction[1]])
+    elif spec.layout == "longitudinal":
+        start = impact - direction * (spec.accel_distance_m + spec.steady_distance_m)
+    else:
+        start = impact - direction * spec.start_to_impact_m
+    distance = float(np.hypot(*(impact - start)))
+    return start, _time_to_impact_from_rest(distance, spec.accel_distance_m, test.target_speed_mps)
+
+
+def _vut(test: NcapTest, v: float, lead_time_s: float, turn: tuple[float, float] | None) -> tuple[dict, float]:
+    """The VUT mapping, started `lead_time_s` (at its test speed) before the impact, and the rear-axle route
+    distance at the nominal impact (m). Reversing tests start 10 m before the collision point (V23)."""
+    spec = test.spec
+    reverse = spec.layout == "reverse"
+    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
+    if turn is not None:
+        station_from_turn, turn_start_x = turn
+        approach = max(v * lead_time_s - station_from_turn, 5.0)
+        start_x = turn_start_x - approach + rear_to_centre
+        route = _turn_route(test, approach, EXIT_LENGTH_M)
+        station = approach + station_from_turn
+    else:
+        station = REVERSE_START_M if reverse else max(v * lead_time_s, 5.0)
+        travel = -1.0 if reverse else 1.0
+        start_x = _target_line(test)[0][0] - travel * (station + rear_to_edge - rear_to_centre)
+        route = {"kind": "straight", "length_m": station + EXIT_LENGTH_M}
+    ego = {**VUT, "start": {"x_m": start_x, "y_m": LANE_Y_M, "heading_deg": 0.0}, "cruise_speed_mps": v}
+    ego["route"] = route
+    if reverse:
+        ego["reverse"] = True
+    return ego, station
+
+
+def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
+    """Route mapping of a turning test: `approach_m` straight, the protocol turn, `after_m` straight."""
+    return ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, approach_m, after_m).model_dump()
+
+
+def _braking_lead(
+    test: NcapTest, v: float, station: float, left: float, vru: dict
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """CMRb: the motorcycle drives ahead at the VUT's speed with the headway, brakes BRAKE_AFTER_S into the
+    run and meets the non-reacting VUT; returns (start, impact point, impact time) and sets its profile."""
+    spec = test.spec
+    decel = spec.target_decel_mps2
+    front_x0 = _target_line(test)[0][0] - station
+    gap = v * spec.headway_s
+    start = np.array([front_x0 + gap, LANE_Y_M + left])
+    stop_s = v / decel
+    if 0.5 * decel * stop_s**2 >= gap:  # caught while still braking: gap = a·τ²/2
+        closing_s = math.sqrt(2 * gap / decel)
+    else:  # the motorcycle stops first; the VUT closes the rest at its speed
+        closing_s = stop_s + (gap - 0.5 * decel * stop_s**2) / v
+    impact_time = BRAKE_AFTER_S + closing_s
+    travelled = v * BRAKE_AFTER_S + v * min(closing_s, stop_s) - 0.5 * decel * min(closing_s, stop_s) ** 2
+    vru.update(
+        top_speed_mps=v,
+        initial_speed_mps=v,
+        trigger={"at_time_s": 0.0},
+        brake={"after_trigger_s": BRAKE_AFTER_S, "decel_mps2": decel},
+    )
+    return start, start + np.array([travelled, 0.0]), impact_time
+
+
+def _scenario_mapping(
+    test: NcapTest, planner: str, v2x: bool, ego: dict, vru: dict, impact: np.ndarray, impact_time: float
+) -> dict:
+    """The Scenario mapping around the VUT and the target: road, sensor, roadside unit, obstructions, timing."""
+    spec = test.spec
+    junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
+    mapping = {
+        "name": test.test_id,
+        "description": f"Euro NCAP {spec.code}: {spec.description}",
+        "road": {"layout": "intersection" if junction else "straight", "lane_width_m": LANE_WIDTH_M},
+        "ego": ego,
+        "sensor": {"range_m": SENSOR_RANGE_M, "fov_deg": SENSOR_FOV_DEG, "lighting": test.lighting},
+        "v2x": {
+            "enabled": v2x,
+            "rsu": {"x_m": float(impact[0] + RSU_OFFSET_M[0]), "y_m": float(impact[1] + RSU_OFFSET_M[1])},
+            "comm_range_m": RSU_COMM_RANGE_M,
+            "coverage_range_m": RSU_COVERAGE_M,
+        },
+        "planner": {"name": planner},
+        "vrus": [vru],
+        "sim": {"dt_s": 0.01, "duration_s": round(impact_time + TAIL_TIME_S, 2)},
+    }
+    if spec.obstruction:
+        mapping["obstacles"] = obstruction_cars(spec.obstruction, _target_line(test)[0], test.dummy)
+    return mapping
+
+
+def _turn_probe(
+    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
+) -> tuple[float, np.ndarray, float]:
+    """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into.
+
+    Returns (route distance from the start of the turn to the impact, impact point, x of the turn start).
+    """
+    rear_to_centre = _ego_geometry(False)[1]
+    route = ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, 0.0, EXIT_LENGTH_M)
+    probe = {**VUT, "start": {"x_m": rear_to_centre, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
+    probe["route"] = route.model_dump()
+    samples = _route_samples(probe)
+    exit_x = samples[math.ceil(route.turn_length_m / SAMPLE_SPACING_M), 0]  # where the exit straight begins
+    turn_start_x = (LANE_WIDTH_M / 2 if test.spec.turn == "farside" else -LANE_WIDTH_M / 2) - exit_x
+    samples[:, 0] += turn_start_x
+    samples[:, 1] += LANE_Y_M
+    station, impact = _crossing(samples, along, left, point, direction)
+    return station, impact, turn_start_x
+
+
+def obstruction_cars(kind: str, path_point: np.ndarray, dummy: Dummy) -> list[dict]:
+    """Parked obstruction vehicles of a scenario family as Scenario `obstacles` mappings (docs/euroncap.md).
+
+    `path_point` is a point of the target's path (which runs along y); `dummy` sets the path's edge.
+    """
+    row = OBSTRUCTIONS[kind]
+    half_target = dummy.width_m / 2
+    cars = []
+    if row.along_vut:  # parallel to the VUT path, nearside; the first car's front before the path edge
+        y = LANE_Y_M - (VUT["width_m"] / 2 + row.clearance_m)
+        front = path_point[0] - half_target - row.first_offset_m
+        for name in row.cars:
+            length, width = OBSTRUCTION_CARS[name]
+            centre = {"x_m": front - length / 2, "y_m": y - width / 2, "heading_deg": 0.0}
+            cars.append({"kind": name, "centre": centre, "length_m": length, "width_m": width})
+            front -= length + row.gap_m
+        return cars
+    outward = 1.0 if path_point[0] < 0 else -1.0  # farside arm (path at x < 0): y > 0; nearside arm: y < 0
+    end = LANE_Y_M + outward * row.first_offset_m
+    for name in row.cars:  # on the VUT's side (-x) of the target's path, parallel to the side road
+        length, width = OBSTRUCTION_CARS[name]
+        x = path_point[0] - (half_target + row.clearance_m + width / 2)
+        centre = {"x_m": x, "y_m": end + outward * length / 2, "heading_deg": 90.0}
+        cars.append({"kind": name, "centre": centre, "length_m": length, "width_m": width})
+        end += outward * (length + row.gap_m)
+    return cars

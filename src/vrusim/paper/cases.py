@@ -1,0 +1,160 @@
+"""The paper's three case studies (He et al., CPSI 2025): scenario files, published results, reproduction.
+
+Published values live here once: Table II scores and the event times of the figure captions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from vrusim.engine.simulate import simulate
+from vrusim.errors import UserInputError
+from vrusim.metrics.summary import summary_rows
+from vrusim.scenario.loading import load_scenario
+from vrusim.scenario.schema import Scenario
+
+TIME_TOLERANCE_S = 0.3
+"""Agreement required between our event times and the figure captions, s."""
+SCORE_TOLERANCE = 0.05
+"""Agreement required between our scores and Table II."""
+
+
+@dataclass(frozen=True)
+class PaperCase:
+    """One case study: key, YAML file name under scenarios/paper, title as in the paper."""
+
+    key: str
+    file_name: str
+    title: str
+
+
+CASES = (
+    PaperCase("pedestrian", "pedestrian_crossing.yaml", "Pedestrian crossing"),
+    PaperCase("escooter", "escooter_leading.yaml", "E-scooter following"),
+    PaperCase("motorcyclist", "motorcyclist_crossing.yaml", "Motorcyclist crossing"),
+)
+
+TABLE_II: dict[tuple[str, bool], tuple[float, float, float]] = {
+    ("pedestrian", False): (0.00, 0.00, 0.00),
+    ("pedestrian", True): (1.00, 0.27, 0.59),
+    ("escooter", False): (1.00, 0.67, 0.78),
+    ("escooter", True): (1.00, 0.65, 0.76),
+    ("motorcyclist", False): (0.00, 0.00, 0.00),
+    ("motorcyclist", True): (0.81, 0.93, 0.89),
+}
+"""Table II: (safety, efficiency, comfort) per (case, V2X enabled)."""
+
+PAPER_COLLIDES: dict[tuple[str, bool], bool] = {key: scores == (0.0, 0.0, 0.0) for key, scores in TABLE_II.items()}
+
+
+@dataclass(frozen=True)
+class CaptionEvent:
+    """An event time stated in a figure caption, and which of our summary fields measures it."""
+
+    case: str
+    v2x: bool
+    label: str
+    paper_time_s: float
+    field: str
+
+
+CAPTION_EVENTS = (
+    CaptionEvent("pedestrian", False, "pedestrian enters the sensor FOV (Fig. 6b)", 3.3, "first_sensor_detection_s"),
+    CaptionEvent("pedestrian", False, "impact (Fig. 6c)", 5.0, "contact_time_s"),
+    CaptionEvent("pedestrian", True, "V2X-triggered deceleration (Fig. 6e)", 2.1, "first_reaction_s"),
+    CaptionEvent("escooter", False, "e-scooter detected (Fig. 7)", 3.0, "first_sensor_detection_s"),
+    CaptionEvent("motorcyclist", False, "motorcyclist detected (Fig. 8)", 4.3, "first_sensor_detection_s"),
+    CaptionEvent("motorcyclist", False, "impact (Fig. 8)", 5.3, "contact_time_s"),
+    CaptionEvent("motorcyclist", True, "V2X message received (Fig. 8)", 1.8, "first_v2x_message_s"),
+)
+
+
+def scenario_dir() -> Path:
+    """Folder of the paper's YAML files (inside the installed package, or the source checkout)."""
+    packaged = resources.files("vrusim") / "_scenarios" / "paper"
+    if packaged.is_dir():
+        return Path(str(packaged))
+    checkout = Path(__file__).resolve().parents[3] / "scenarios" / "paper"
+    if checkout.is_dir():
+        return checkout
+    raise UserInputError("the paper's scenario files are missing from this installation")
+
+
+def paper_scenarios() -> list[tuple[PaperCase, bool, Scenario]]:
+    """The six runs: each case with V2X off and on."""
+    out = []
+    for case in CASES:
+        scenario = load_scenario(scenario_dir() / case.file_name)
+        out.extend((case, v2x, scenario.with_v2x(v2x)) for v2x in (False, True))
+    return out
+
+
+def _first_reaction(row: dict) -> float | None:
+    times = [t for t in row["first_mode_s"].values() if t is not None]
+    return min(times) if times else None
+
+
+def reproduce() -> dict:
+    """Run the six cases in one batch; compare outcomes, event times and scores with the paper."""
+    runs = paper_scenarios()
+    rows = summary_rows(simulate([scenario for _, _, scenario in runs]))
+    cases = []
+    for (case, v2x, _), row in zip(runs, rows, strict=True):
+        row["first_reaction_s"] = _first_reaction(row)
+        paper_scores = TABLE_II[(case.key, v2x)]
+        ours = (row["safety"], row["efficiency"], row["comfort"])
+        cases.append(
+            {
+                "case": case.key,
+                "title": case.title,
+                "v2x": v2x,
+                "paper": {
+                    "collision": PAPER_COLLIDES[(case.key, v2x)],
+                    "safety": paper_scores[0],
+                    "efficiency": paper_scores[1],
+                    "comfort": paper_scores[2],
+                },
+                "ours": row,
+                "outcome_matches": row["collided"] == PAPER_COLLIDES[(case.key, v2x)],
+                "scores_within_tolerance": all(
+                    abs(a - b) <= SCORE_TOLERANCE + 1e-9 for a, b in zip(ours, paper_scores, strict=True)
+                ),
+            }
+        )
+    events = []
+    for event in CAPTION_EVENTS:
+        row = next(c["ours"] for c in cases if c["case"] == event.case and c["v2x"] == event.v2x)
+        ours = row.get(event.field)
+        events.append(
+            {
+                "case": event.case,
+                "v2x": event.v2x,
+                "event": event.label,
+                "paper_s": event.paper_time_s,
+                "ours_s": ours,
+                "within_tolerance": ours is not None and abs(ours - event.paper_time_s) <= TIME_TOLERANCE_S,
+            }
+        )
+    return {
+        "cases": cases,
+        "events": events,
+        "tolerances": {"time_s": TIME_TOLERANCE_S, "score": SCORE_TOLERANCE},
+    }
+
+
+def match_counts(result: dict) -> dict[str, tuple[int, int]]:
+    """(matching, total) outcomes, events and individual scores of a reproduce() result."""
+    tolerance = result["tolerances"]["score"]
+    cases, events = result["cases"], result["events"]
+    scores = [
+        abs(case["ours"][name] - case["paper"][name]) <= tolerance + 1e-9
+        for case in cases
+        for name in ("safety", "efficiency", "comfort")
+    ]
+    return {
+        "outcomes": (sum(case["outcome_matches"] for case in cases), len(cases)),
+        "events": (sum(event["within_tolerance"] for event in events), len(events)),
+        "scores": (sum(scores), len(scores)),
+    }

@@ -1,0 +1,213 @@
+"""Pack many Scenarios into one structure-of-arrays parameter set (first axis = variant, second = VRU slot)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vrusim.errors import UserInputError
+from vrusim.geometry.path_table import PathTable
+from vrusim.geometry.paths import Line, PathSpec
+from vrusim.scenario.routes import ego_route_spec, vru_path_spec
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
+
+TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
+_PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
+"""Path of an unused VRU slot: 10,000 km away, so it never interacts."""
+
+
+@dataclass
+class BatchParams:
+    """Constant per-variant parameters of a batch. Shapes: [B] or [B, K]; SI units."""
+
+    scenarios: list[Scenario]
+    dt_s: float
+    n_steps: int
+    duration_s: np.ndarray
+    seed: np.ndarray
+    """Each variant's `sim.seed` (int64): the key of its random numbers (`vrusim.sim.rng`)."""
+    stop_on_collision: np.ndarray
+    stop_at_route_end: np.ndarray
+    # ego
+    half_length_m: np.ndarray
+    half_width_m: np.ndarray
+    wheelbase_m: np.ndarray
+    rear_to_centre_m: np.ndarray
+    rear_to_front_m: np.ndarray
+    cruise_speed_mps: np.ndarray
+    start_speed_mps: np.ndarray
+    max_accel_mps2: np.ndarray
+    max_decel_mps2: np.ndarray
+    max_jerk_mps3: np.ndarray
+    lag_s: np.ndarray
+    max_curvature_per_m: np.ndarray
+    lateral_gain: np.ndarray
+    heading_gain: np.ndarray
+    routes: PathTable
+    route_offset: np.ndarray
+    route_length_m: np.ndarray
+    # sensor
+    sensor_enabled: np.ndarray
+    sensor_range_m: np.ndarray
+    sensor_cos_half: np.ndarray
+    sensor_sin_half: np.ndarray
+    obstacles: ObstacleArrays  # count [B]; boxes [B, M], M = most obstacles in the batch; occlude the sensor only
+    # v2x
+    v2x_enabled: np.ndarray
+    rsu_x_m: np.ndarray
+    rsu_y_m: np.ndarray
+    comm_range_m: np.ndarray
+    coverage_range_m: np.ndarray
+    # vrus [B, K]
+    vru_valid: np.ndarray
+    vru_type: np.ndarray
+    vru_top_speed_mps: np.ndarray
+    vru_max_accel_mps2: np.ndarray
+    vru_radius_m: np.ndarray
+    vru_tau_s: np.ndarray
+    vru_initial_speed_mps: np.ndarray
+    vru_brake_after_s: np.ndarray
+    """Delay from trigger to braking, s (inf: never brakes)."""
+    vru_brake_decel_mps2: np.ndarray
+    vru_paths: PathTable
+    vru_path_offset: np.ndarray
+    trigger_kind: np.ndarray
+    trigger_value: np.ndarray
+    trigger_x_m: np.ndarray
+    trigger_y_m: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of variants B."""
+        return len(self.scenarios)
+
+    @property
+    def vru_slots(self) -> int:
+        """Number of VRU slots K (the largest VRU count in the batch)."""
+        return self.vru_valid.shape[1]
+
+
+def _unique_rows(specs: list) -> tuple[list, np.ndarray]:
+    rows: dict = {}
+    index = np.array([rows.setdefault(spec, len(rows)) for spec in specs], dtype=np.int64)
+    return list(rows), index
+
+
+def pack(scenarios: list[Scenario]) -> BatchParams:
+    """Pack scenarios (all with the same dt) into arrays for the batch engine."""
+    if not scenarios:
+        raise UserInputError("a batch needs at least one scenario")
+    dt = scenarios[0].sim.dt_s
+    if any(s.sim.dt_s != dt for s in scenarios):
+        raise UserInputError("sim.dt_s: every scenario of one batch must use the same time step")
+    B = len(scenarios)
+    K = max(len(s.vrus) for s in scenarios)
+
+    def ego_array(getter) -> np.ndarray:
+        return np.array([float(getter(s)) for s in scenarios])
+
+    route_specs, route_rows = _unique_rows([ego_route_spec(s.ego) for s in scenarios])
+    routes = PathTable(route_specs)
+    half_fov = np.radians(ego_array(lambda s: s.sensor.fov_deg)) / 2
+
+    vru_valid = np.zeros((B, K), dtype=bool)
+    vru_type = np.zeros((B, K), dtype=object)
+    numeric = {name: np.zeros((B, K)) for name in ("top", "acc", "rad", "tau", "tval", "tx", "ty", "v0", "bdecel")}
+    brake_after = np.full((B, K), math.inf)
+    numeric["rad"][:] = 0.1
+    trigger_kind = np.zeros((B, K), dtype=np.int8)
+    path_specs: list = []
+    path_index = np.zeros((B, K), dtype=np.int64)
+    for b, scenario in enumerate(scenarios):
+        for k, vru in enumerate(scenario.vrus):
+            vru_valid[b, k] = True
+            vru_type[b, k] = vru.type.value
+            numeric["top"][b, k] = vru.speed_mps
+            numeric["acc"][b, k] = vru.accel_mps2
+            numeric["rad"][b, k] = vru.footprint_m
+            numeric["tau"][b, k] = vru.speed_time_constant_s
+            numeric["v0"][b, k] = vru.initial_speed_mps
+            if vru.brake is not None:
+                brake_after[b, k], numeric["bdecel"][b, k] = vru.brake.after_trigger_s, vru.brake.decel_mps2
+            trig = vru.trigger
+            if trig.at_time_s is not None:
+                trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME, trig.at_time_s
+            elif trig.ego_distance_m is not None:
+                trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_DISTANCE, trig.ego_distance_m
+            elif trig.ego_route_m is not None:
+                trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_ROUTE, trig.ego_route_m
+            else:
+                trigger_kind[b, k], numeric["tval"][b, k] = (
+                    TRIGGER_TIME_TO_ARRIVAL,
+                    trig.ego_time_to_arrival_s,
+                )
+            if trig.point is not None:
+                numeric["tx"][b, k], numeric["ty"][b, k] = trig.point.x_m, trig.point.y_m
+            path_specs.append(vru_path_spec(vru))
+            path_index[b, k] = len(path_specs) - 1
+        for k in range(len(scenario.vrus), K):  # empty slot: parked far away, never triggered
+            path_specs.append(_PARKED_SLOT)
+            path_index[b, k] = len(path_specs) - 1
+            trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME, math.inf
+    unique_paths, unique_index = _unique_rows(path_specs)
+    vru_paths = PathTable(unique_paths)
+    vru_rows = unique_index[path_index]
+
+    max_steer = np.radians(ego_array(lambda s: s.ego.max_steer_deg))
+    wheelbase = ego_array(lambda s: s.ego.wheelbase_m)
+    duration = ego_array(lambda s: s.sim.duration_s)
+    return BatchParams(
+        scenarios=list(scenarios),
+        dt_s=dt,
+        n_steps=math.ceil(duration.max() / dt - 1e-9),
+        duration_s=duration,
+        seed=np.array([s.sim.seed for s in scenarios], dtype=np.int64),
+        stop_on_collision=np.array([s.sim.stop_on_collision for s in scenarios]),
+        stop_at_route_end=np.array([s.sim.stop_at_route_end for s in scenarios]),
+        half_length_m=ego_array(lambda s: s.ego.length_m / 2),
+        half_width_m=ego_array(lambda s: s.ego.width_m / 2),
+        wheelbase_m=wheelbase,
+        # a reversing ego is packed mirrored front to back: its "rear" axle and overhang trail in the motion
+        rear_to_centre_m=ego_array(lambda s: s.ego.length_m / 2 - s.ego.trailing_overhang_m),
+        rear_to_front_m=ego_array(lambda s: s.ego.length_m - s.ego.trailing_overhang_m),
+        cruise_speed_mps=ego_array(lambda s: s.ego.cruise_speed_mps),
+        start_speed_mps=ego_array(lambda s: s.ego.start_speed_mps),
+        max_accel_mps2=ego_array(lambda s: s.ego.max_accel_mps2),
+        max_decel_mps2=ego_array(lambda s: s.ego.max_decel_mps2),
+        max_jerk_mps3=ego_array(lambda s: s.ego.max_jerk_mps3 or math.inf),
+        lag_s=ego_array(lambda s: s.ego.actuator_lag_s),
+        max_curvature_per_m=np.tan(max_steer) / wheelbase,
+        lateral_gain=ego_array(lambda s: s.ego.tracking.lateral_gain_per_m2),
+        heading_gain=ego_array(lambda s: s.ego.tracking.heading_gain_per_m),
+        routes=routes,
+        route_offset=route_rows * routes.width,
+        route_length_m=ego_array(lambda s: s.ego.route.length_m),
+        sensor_enabled=np.array([s.sensor.enabled for s in scenarios]),
+        sensor_range_m=ego_array(lambda s: s.sensor.effective_range_m),
+        sensor_cos_half=np.cos(half_fov),
+        sensor_sin_half=np.sin(half_fov),
+        obstacles=pack_obstacles([s.obstacles for s in scenarios]),
+        v2x_enabled=np.array([s.v2x.enabled for s in scenarios]),
+        rsu_x_m=ego_array(lambda s: s.v2x.rsu.x_m if s.v2x.rsu else 0.0),
+        rsu_y_m=ego_array(lambda s: s.v2x.rsu.y_m if s.v2x.rsu else 0.0),
+        comm_range_m=ego_array(lambda s: s.v2x.comm_range_m),
+        coverage_range_m=ego_array(lambda s: s.v2x.coverage_range_m),
+        vru_valid=vru_valid,
+        vru_type=vru_type,
+        vru_top_speed_mps=numeric["top"],
+        vru_max_accel_mps2=numeric["acc"],
+        vru_radius_m=numeric["rad"],
+        vru_tau_s=numeric["tau"],
+        vru_initial_speed_mps=numeric["v0"],
+        vru_brake_after_s=brake_after,
+        vru_brake_decel_mps2=numeric["bdecel"],
+        vru_paths=vru_paths,
+        vru_path_offset=vru_rows * vru_paths.width,
+        trigger_kind=trigger_kind,
+        trigger_value=numeric["tval"],
+        trigger_x_m=numeric["tx"],
+        trigger_y_m=numeric["ty"],
+    )

@@ -1,0 +1,208 @@
+"""What the onboard sensor reports, given which VRUs its sector sees: ideal, or with latency, misses and noise.
+
+A sensor model turns the geometric visibility of this step (`sensing.sense`) and the true VRU kinematics into
+the sensor's report: which VRUs it detects and their estimated kinematics. The ideal model (the paper's
+assumption) reports every visible VRU at once and exactly. The realistic model adds, per variant (scenario
+`sensor` fields): a detection latency of L whole steps, a frame period of F whole steps, an independent
+detection draw per frame and VRU, and Gaussian noise on the reported position and velocity. `make_sensor_model`
+picks the ideal model when every variant of the batch has ideal settings, so such runs stay bit-identical.
+
+Realistic report at step n (docs/models.md, "Sensor model"): frames are measured at steps m = 0, F, 2F, ...
+and reported L steps later, at n = m + L; between reports the last one is held. A frame detects VRU k when
+it was visible at step m and u(seed, m, STREAM_SENSOR_DETECT, k) < detection_probability; its estimate is the
+true x, y, vx, vy at step m plus sigma·z(seed, m, STREAM_SENSOR_NOISE, 4k + axis), and the true ax, ay at
+step m without noise. Every draw is keyed by the variant's seed and the measurement step, never by the batch.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Protocol
+
+import numpy as np
+
+from vrusim.kernels import batch_kernel, prange
+from vrusim.scenario.schema import Scenario
+from vrusim.sim.compaction import take_attributes
+from vrusim.sim.params import BatchParams
+from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
+
+NOISY_ROWS = 4
+"""Kinematics rows with measurement noise: x, y (position sigma) and vx, vy (velocity sigma)."""
+
+
+class SensorModel(Protocol):
+    """Turns visibility into detections."""
+
+    def reset(self, params: BatchParams) -> None: ...
+
+    def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(detected [B, K], estimated kinematics [6, B, K]) from this step's visibility and true kinematics."""
+        ...
+
+    def age_s(self, step: int, dt_s: float) -> np.ndarray | None:
+        """Age of each variant's current report [B], s (None: all 0)."""
+        ...
+
+
+class IdealSensor:
+    """No latency, no missed detection, no noise."""
+
+    def reset(self, params: BatchParams) -> None:
+        """Nothing to set up."""
+
+    def compact(self, index: np.ndarray) -> None:
+        """Nothing kept per variant."""
+
+    def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every visible VRU, exactly as it is."""
+        return visible, truth
+
+    def age_s(self, step: int, dt_s: float) -> np.ndarray | None:
+        """Age of the current reports: the ideal sensor reports the present (None: 0 s for every variant)."""
+        return None
+
+
+def whole_steps(duration_s: float, dt_s: float) -> int:
+    """A duration in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt)."""
+    return math.floor(duration_s / dt_s + 0.5 + 1e-9)
+
+
+def latency_steps(scenario: Scenario) -> int:
+    """The scenario's sensor latency L in whole steps of its `sim.dt_s`."""
+    return whole_steps(scenario.sensor.latency_s, scenario.sim.dt_s)
+
+
+def frame_steps(scenario: Scenario) -> int:
+    """The scenario's sensor frame period F in whole steps (at least 1; 1 without `frame_rate_hz`)."""
+    rate = scenario.sensor.frame_rate_hz
+    return 1 if rate is None else max(1, whole_steps(1.0 / rate, scenario.sim.dt_s))
+
+
+def is_ideal(scenario: Scenario) -> bool:
+    """Whether the scenario's sensor reports every visible VRU at once and exactly (lighting aside)."""
+    sensor = scenario.sensor
+    exact = sensor.detection_probability == 1.0 and sensor.position_sigma_m == 0.0 and sensor.velocity_sigma_mps == 0.0
+    if not exact:
+        return False
+    if sensor.latency_s == 0.0 and sensor.frame_rate_hz is None:  # the defaults: no rounding to do
+        return True
+    return latency_steps(scenario) == 0 and frame_steps(scenario) == 1
+
+
+class RealisticSensor:
+    """Latency, frame rate, missed detections and noise, per variant; keyed random draws (`sim/rng.py`).
+
+    State: a ring buffer of the last D = max L + 1 steps' visibility [D, B, K] and true kinematics
+    [D, 6, B, K], and the report held since the last frame (detected [B, K], estimate [6, B, K]).
+    """
+
+    def reset(self, params: BatchParams) -> None:
+        """Per-variant settings from `params.scenarios`; empty ring buffer and no report held."""
+        scenarios = params.scenarios
+        self.seed = params.seed
+        self.latency = np.array([latency_steps(s) for s in scenarios], dtype=np.int64)
+        self.period = np.array([frame_steps(s) for s in scenarios], dtype=np.int64)
+        self.probability = np.array([s.sensor.detection_probability for s in scenarios])
+        self.position_sigma_m = np.array([s.sensor.position_sigma_m for s in scenarios])
+        self.velocity_sigma_mps = np.array([s.sensor.velocity_sigma_mps for s in scenarios])
+        shape = params.vru_valid.shape
+        depth = int(self.latency.max()) + 1
+        self.seen = np.zeros((depth, *shape), dtype=bool)
+        self.history = np.zeros((depth, 6, *shape))
+        self.held = np.zeros(shape, dtype=bool)
+        self.held_estimate = np.zeros((6, *shape))
+
+    def compact(self, index: np.ndarray) -> None:
+        """Keep only variants `index` (the engine drops stopped ones)."""
+        take_attributes(self, ("seed", "latency", "period", "probability", "position_sigma_m"), index)
+        take_attributes(self, ("velocity_sigma_mps", "held"), index)
+        take_attributes(self, ("seen", "held_estimate"), index, axis=1)
+        take_attributes(self, ("history",), index, axis=2)
+
+    def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Store this step's truth; report the frame measured L steps ago if one was, else hold the last."""
+        detected = np.empty(visible.shape, dtype=bool)
+        estimate = np.empty(truth.shape)
+        _observe(
+            visible.shape[0],
+            step,
+            visible,
+            truth,
+            self.seed,
+            self.latency,
+            self.period,
+            self.probability,
+            self.position_sigma_m,
+            self.velocity_sigma_mps,
+            self.seen,
+            self.history,
+            self.held,
+            self.held_estimate,
+            detected,
+            estimate,
+        )
+        return detected, estimate
+
+    def age_s(self, step: int, dt_s: float) -> np.ndarray:
+        """Age of each variant's current report [B], s: steps since the frame it describes was measured
+        (latency plus the time the report has been held since its frame)."""
+        since = np.maximum(step - self.latency, 0)
+        measured = (since // self.period) * self.period
+        return (step - measured) * dt_s
+
+
+@batch_kernel
+def _observe(
+    step,
+    visible,
+    truth,
+    seed,
+    latency,
+    period,
+    probability,
+    position_sigma,
+    velocity_sigma,
+    seen,
+    history,
+    held,
+    held_estimate,
+    detected,
+    estimate,
+):  # pragma: no cover (compiled)
+    B, K = visible.shape
+    depth = seen.shape[0]
+    slot = step % depth
+    for b in prange(B):
+        for k in range(K):
+            seen[slot, b, k] = visible[b, k]
+            for row in range(6):
+                history[slot, row, b, k] = truth[row, b, k]
+        measured = step - latency[b]  # the step whose frame would be reported now
+        if measured < 0:  # nothing reported yet: the oldest truth (step 0), flagged not detected
+            for k in range(K):
+                held[b, k] = False
+                for row in range(6):
+                    held_estimate[row, b, k] = history[0, row, b, k]
+        elif measured % period[b] == 0:  # a new frame: detection draw and noise keyed by its step
+            old = measured % depth
+            for k in range(K):
+                held[b, k] = seen[old, b, k] and uniform(seed[b], measured, STREAM_SENSOR_DETECT, k) < probability[b]
+                for row in range(6):
+                    held_estimate[row, b, k] = history[old, row, b, k]
+                for axis in range(NOISY_ROWS):
+                    sigma = position_sigma[b] if axis < 2 else velocity_sigma[b]
+                    if sigma > 0.0:
+                        z = normal(seed[b], measured, STREAM_SENSOR_NOISE, NOISY_ROWS * k + axis)
+                        held_estimate[axis, b, k] += sigma * z
+        for k in range(K):
+            detected[b, k] = held[b, k]
+            for row in range(6):
+                estimate[row, b, k] = held_estimate[row, b, k]
+
+
+def make_sensor_model(params: BatchParams) -> SensorModel:
+    """The sensor model of a batch: ideal when every variant's sensor is (bit-identical to the paper's)."""
+    if all(is_ideal(s) for s in params.scenarios):
+        return IdealSensor()
+    return RealisticSensor()
