@@ -1,1 +1,1 @@
-"""io."""
+"""File output shared by every layer: atomic write-then-rename."""

@@ -1,0 +1,1 @@
+"""Judging a run: result columns, summary rows, safety / efficiency / comfort scores."""

@@ -1,1 +1,1 @@
-"""vru."""
+"""VRU motion along prescribed paths: triggers, speed profiles."""
