@@ -113,7 +113,8 @@ class Results:
             v2x = "on" if row["v2x"] else "off"
             return f"Results({row['scenario']}: {outcome}; planner {planners}, V2X {v2x}; {scores})"
         avoided = len(self) - collisions
-        return f"Results({len(self)} runs: {collisions} collisions, {avoided} avoided; planner {planners})"
+        plural = "" if collisions == 1 else "s"
+        return f"Results({len(self)} runs: {collisions} collision{plural}, {avoided} avoided; planner {planners})"
 
     def _repr_html_(self) -> str:
         return html_table(self.rows, KEY_COLUMNS, repr(self))
