@@ -239,6 +239,15 @@ def test_run_planner_v2x_and_seed(pedestrian):
     assert vrusim.run(pedestrian.with_v2x(True), v2x="off").scenarios[0] == pedestrian
 
 
+def test_run_settings_mean_what_vrusim_compare_does(pedestrian):
+    from vrusim.scenario.settings import with_settings
+    from vrusim.studies.compare import Combination, variant
+
+    for planner, v2x, seed in [("aeb", "typical", 3), ("fsm", "off", 0), ("predictive", "ideal", 1)]:
+        expected = variant(pedestrian, Combination(planner, v2x), seed)
+        assert with_settings(pedestrian, planner, v2x, seed) == expected.model_copy(update={"name": pedestrian.name})
+
+
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [

@@ -7,12 +7,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from vrusim.api.settings import V2XSetting, check_planner, configured
+from vrusim.api.settings import check_planner
 from vrusim.api.tables import SUMMARY_TYPES, arrow_table, html_table, pandas_frame
 from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.schema import Scenario
+from vrusim.scenario.settings import V2XSetting, with_settings
 from vrusim.sources import ScenarioSource, load_source
 
 if TYPE_CHECKING:
@@ -153,7 +154,7 @@ def run(
     if planner is not None:
         check_planner(planner)
     prepared = [
-        configured(load_source(source, "scenarios" if single else f"scenarios[{index}]"), planner, v2x, seed)
+        with_settings(load_source(source, "scenarios" if single else f"scenarios[{index}]"), planner, v2x, seed)
         for index, source in enumerate(sources)
     ]
     record = single if trace is None else bool(trace)
