@@ -1,7 +1,53 @@
-"""vrusim: closed-loop simulation of vulnerable-road-user safety tests."""
+"""vrusim: closed-loop simulation of vulnerable-road-user safety tests.
+
+The public Python API (docs/api.md) is imported on first use, so `import vrusim` stays cheap and has no side
+effects (no environment change, nothing written):
+
+    import vrusim
+    results = vrusim.run(vrusim.load("paper:pedestrian"))
+    print(results.to_pandas())
+"""
 
 from __future__ import annotations
 
+import typing as _typing
+
 from vrusim.version import __version__
 
-__all__ = ["__version__"]
+if _typing.TYPE_CHECKING:
+    from vrusim.api import NcapResults, Results, SweepFolder, euro_ncap, load, open_sweep, run, run_sweep
+    from vrusim.errors import UserInputError
+    from vrusim.scenario.schema import Scenario
+
+__all__ = [
+    "NcapResults",
+    "Results",
+    "Scenario",
+    "SweepFolder",
+    "UserInputError",
+    "__version__",
+    "euro_ncap",
+    "load",
+    "open_sweep",
+    "run",
+    "run_sweep",
+]
+
+_HOME = {"Scenario": "vrusim.scenario.schema", "UserInputError": "vrusim.errors"}
+"""Where the public names that are not the API's own live (every other one: vrusim.api)."""
+
+
+def __getattr__(name: str) -> _typing.Any:
+    """Import a public name on first use (PEP 562) and keep it, so later look-ups are plain attributes."""
+    if name not in __all__:
+        raise AttributeError(f"module 'vrusim' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(_HOME.get(name, "vrusim.api")), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The public names (what `from vrusim import *` gives)."""
+    return sorted(__all__)

@@ -8,29 +8,11 @@ from typing import Any
 from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
+from vrusim.scenario.field_paths import describe_validation_error, field_path
 from vrusim.scenario.schema import Scenario
-from vrusim.scenario.strict import error_message
 from vrusim.scenario.yaml_file import read_yaml_file
 
-
-def field_path(location: tuple[int | str, ...]) -> str:
-    """Render a pydantic error location as a dotted path, e.g. `vrus[0].top_speed_mps`."""
-    text = ""
-    for part in location:
-        if isinstance(part, int):
-            text += f"[{part}]"
-        else:
-            text += f".{part}" if text else str(part)
-    return text or "(top level)"
-
-
-def describe_validation_error(error: ValidationError, source: str) -> str:
-    """One readable message listing every offending field and what was expected."""
-    lines = [f"{source}: invalid scenario"]
-    for item in error.errors(include_url=False):
-        location = tuple(p for p in item["loc"] if p not in ("function-after[_from_pair(), Point]",))
-        lines.append(f"  {field_path(location)}: {error_message(item)}")
-    return "\n".join(lines)
+__all__ = ["describe_validation_error", "field_path", "load_scenario", "scenario_from_mapping"]
 
 
 def scenario_from_mapping(data: Any, source: str = "scenario") -> Scenario:

@@ -11,6 +11,7 @@ from typing import Any, Literal, Self
 
 from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
+from vrusim.scenario.field_paths import replaced
 from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
@@ -420,6 +421,16 @@ class Scenario(StrictModel):
             if box.overlaps(ego.start, ego.length_m, ego.width_m):
                 raise ValueError(f"obstacles[{index}] overlaps the ego vehicle's start rectangle")
         return obstacles
+
+    def replace(self, **changes: Any) -> Scenario:
+        """A validated copy with the field at each dotted path set: `s.replace(**{"ego.cruise_speed_mps": 12.0})`.
+
+        Paths are YAML keys joined by '.', with `[i]` for a list element (`vrus[0].top_speed_mps`,
+        `v2x.channel.latency_s`: a channel profile name is expanded into its specification first). Only the
+        models on the changed paths are rebuilt; the copy passes every validator a YAML file would. An unknown
+        path or a refused value raises UserInputError naming the path.
+        """
+        return replaced(self, changes, "Scenario.replace")
 
     def with_v2x(self, enabled: bool) -> Scenario:
         """A copy with V2X switched on or off (validated again)."""

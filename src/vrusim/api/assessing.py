@@ -1,0 +1,114 @@
+"""`euro_ncap`: run the Euro NCAP AEB VRU catalogue (or part of it) in one batch and assess it as Euro NCAP would."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
+
+from vrusim.api.settings import check_planner, renamed, v2x_switch
+from vrusim.api.tables import arrow_table, html_table, pandas_frame
+from vrusim.errors import UserInputError
+from vrusim.ncap.assess import SCHEMA, Assessment, GroupScore, assess
+from vrusim.ncap.grid import CatalogueRun, run_tests, select
+
+if TYPE_CHECKING:
+    import pandas
+    import pyarrow as pa
+
+GROUP_COLUMNS = ("group", "score", "max_points", "in_euro_ncap_total")
+"""The columns a notebook shows of the group scores."""
+
+
+def result_rows(run_rows: list[dict], assessment: Assessment) -> list[dict]:
+    """One row per test: the simulation's row joined with its assessment (colour, points, speeds in km/h)."""
+    assessed = {test.test_id: asdict(test) for test in assessment.tests}
+    return [row | assessed[row["test_id"]] for row in run_rows]
+
+
+@dataclass(frozen=True)
+class NcapResults:
+    """The outcome of `euro_ncap`: per-test rows, group scores and the Euro NCAP total."""
+
+    planner: str
+    v2x: bool
+    night: bool
+    rows: list[dict[str, Any]]
+    """One row per test, as `vrusim ncap --out` writes results.csv: the simulation's values (SI units) joined
+    with the assessment (criterion, colour, sub-score, speeds in km/h)."""
+    assessment: Assessment
+    catalogue_run: CatalogueRun
+
+    @property
+    def total(self) -> float:
+        """The Euro NCAP points of the groups counted in its total (extensions excluded)."""
+        return self.assessment.total
+
+    @property
+    def total_max(self) -> float:
+        """The most points those groups can give."""
+        return self.assessment.total_max
+
+    @property
+    def groups(self) -> tuple[GroupScore, ...]:
+        """Every group's score: the Euro NCAP groups, then vrusim's extensions."""
+        return self.assessment.groups
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return iter(self.rows)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dict, the document `vrusim ncap --json` prints."""
+        return {
+            "planner": self.planner,
+            "v2x": "on" if self.v2x else "off",
+            "night": self.night,
+            "assessment": self.assessment.to_dict(),
+        }
+
+    def to_arrow(self) -> pa.Table:
+        """The per-test rows as a pyarrow Table."""
+        return arrow_table(self.rows, {field.name: field.type for field in SCHEMA})
+
+    def to_pandas(self) -> pandas.DataFrame:
+        """The per-test rows as a pandas DataFrame (needs pandas, which vrusim does not install)."""
+        return pandas_frame(self.to_arrow())
+
+    def __repr__(self) -> str:
+        return (
+            f"NcapResults({len(self)} tests, planner {self.planner}, V2X {'on' if self.v2x else 'off'}: "
+            f"Euro NCAP total {self.total:.2f} / {self.total_max:.2f} points)"
+        )
+
+    def _repr_html_(self) -> str:
+        return html_table([asdict(group) for group in self.groups], GROUP_COLUMNS, repr(self))
+
+
+def euro_ncap(
+    scenarios: str | Sequence[str] | None = None,
+    planner: str = "fsm",
+    v2x: bool | str = False,
+    night: bool = False,
+) -> NcapResults:
+    """Run Euro NCAP AEB VRU catalogue tests as one batch and assess them (as `vrusim ncap`).
+
+    `scenarios`: catalogue codes or prefixes (`"CPNA-25"`, `["CPTA", "CB"]`; `vrusim list` shows them); None:
+    the whole catalogue. `planner`: a registered planner name. `v2x`: the roadside unit on ("on" / True) or
+    off ("off" / False). `night`: also run the night tests. Bad input raises UserInputError naming the argument.
+    """
+    check_planner(planner)
+    on = v2x_switch(v2x)
+    codes = [scenarios] if isinstance(scenarios, str) else list(scenarios or [])
+    if not isinstance(night, bool):
+        raise UserInputError(f"night: expected True or False, got {night!r}")
+    try:
+        tests = select(codes, night=night)
+        catalogue_run = run_tests(tests, planner=planner, v2x=on)
+    except UserInputError as error:
+        raise renamed(error, {"--scenario:": "scenarios:"}) from None
+    assessment = assess(catalogue_run.rows)
+    rows = result_rows(catalogue_run.rows, assessment)
+    return NcapResults(planner, on, night, rows, assessment, catalogue_run)
