@@ -3,10 +3,10 @@
 # 1. Debian's Chromium for the HTML report browser tests (tests/test_report_browser.py drives /usr/bin/chromium
 #    with Playwright; no browser is downloaded). Skipped when present or VRUSIM_SKIP_BROWSER_TESTS=1; uses sudo
 #    when not root.
-# 2. vrusim with its test extra.
-# 3. The ASAM Quality Checker for OpenDRIVE without its dependencies: asam-qc-opendrive 1.0.0 (the only release)
-#    pins numpy<2, which would downgrade NumPy below what pyarrow needs; its own dependencies come from the test
-#    extra, and its checks run under NumPy 2 (tests/test_export_openscenario.py, docs/interop.md).
+# 2. vrusim with its test extra (every extra, and the test tools), editable.
+# 3. The ASAM Quality Checkers for OpenSCENARIO XML and OpenDRIVE in a venv of their own, <this venv>/asam-qc
+#    (tests/asam_qc.py runs them there): asam-qc-opendrive 1.0.0, the only release, pins numpy<2, which cannot
+#    share an environment with vrusim's NumPy 2 and leave `pip check` passing (docs/interop.md).
 set -euo pipefail
 
 if [[ "${VRUSIM_SKIP_BROWSER_TESTS:-}" != "1" && ! -x /usr/bin/chromium ]]; then
@@ -27,4 +27,11 @@ if [[ "${VRUSIM_SKIP_BROWSER_TESTS:-}" != "1" && ! -x /usr/bin/chromium ]]; then
 fi
 
 pip install -e ".[test]"
-pip install --no-deps "asam-qc-opendrive==1.0.0"
+
+# earlier versions of this script installed the checkers here, next to vrusim
+pip uninstall -y -q asam-qc-opendrive asam-qc-openscenarioxml 2> /dev/null || true
+checkers="$(python -c 'import sys; print(sys.prefix)')/asam-qc"
+python -m venv "$checkers"
+"$checkers/bin/pip" install -q "asam-qc-opendrive==1.0.0" "asam-qc-openscenarioxml==1.0.0"
+"$checkers/bin/pip" check
+pip check

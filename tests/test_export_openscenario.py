@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from asam_qc import check_file, checker_errors
+from asam_qc import check_files, checker_errors
 from cli_helpers import assert_user_error, invoke
 from vrusim.engine.simulate import simulate
 from vrusim.interop.openscenario import build_export, export_openscenario, file_stem, road_half_length_m
@@ -52,8 +52,7 @@ def test_every_exported_file_passes_the_asam_quality_checkers(exported):
     assert len(files) == 2 * len(by_stem) == 2 * (len(DAY_TESTS) + 1 + len(YAML_FILES))
     start = time.perf_counter()
     problems = {}
-    for path in files:
-        issues, status = check_file(path)
+    for path, (issues, status) in check_files(files).items():
         if issues or checker_errors(status):
             problems[path.name] = issues + checker_errors(status)
         if path.suffix == ".xosc":  # every OpenSCENARIO checker applies to 1.3 and runs
@@ -77,9 +76,8 @@ def test_the_checkers_find_issues_in_a_broken_export(exported, tmp_path):
     lane = next(xodr.getroot().iter("lane"))
     lane.set("type", "no-such-lane-type")  # not in the schema's enumeration
     xodr.write(str(tmp_path / "broken.xodr"))
-    for name in ("broken.xosc", "broken.xodr"):
-        issues, _ = check_file(tmp_path / name)
-        assert issues, name
+    for path, (issues, _) in check_files([tmp_path / "broken.xosc", tmp_path / "broken.xodr"]).items():
+        assert issues, path.name
 
 
 # ----------------------------------------------------------------------------------------------- round trip

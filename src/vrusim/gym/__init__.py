@@ -10,11 +10,14 @@ autoreset: docs/interop.md (Gymnasium).
 
 from __future__ import annotations
 
-from vrusim.gym.env import VruEnv
-from vrusim.gym.features import feature_names
-from vrusim.gym.registration import ENV_IDS, register_envs
-from vrusim.gym.reward import RewardWeights
-from vrusim.gym.vector_env import VruVectorEnv
+from vrusim.extras import extra
+
+with extra("gym"):  # every module of the package comes through here first
+    from vrusim.gym.env import VruEnv
+    from vrusim.gym.features import feature_names
+    from vrusim.gym.registration import ENV_IDS, register_envs
+    from vrusim.gym.reward import RewardWeights
+    from vrusim.gym.vector_env import VruVectorEnv
 
 register_envs()
 

@@ -15,12 +15,15 @@ import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from commonroad.common.common_scenario import FileInformation, ScenarioID
-from commonroad.common.file_writer import CommonRoadFileWriter, OverwriteExistingFile
-from commonroad.common.util import FileFormat
-from commonroad.planning.planning_problem import PlanningProblemSet
-from commonroad.scenario.scenario import Scenario as CrScenario
-from commonroad.scenario.scenario import Tag
+from vrusim.extras import extra
+
+with extra("export"):
+    from commonroad.common.common_scenario import FileInformation, ScenarioID
+    from commonroad.common.file_writer import CommonRoadFileWriter, OverwriteExistingFile
+    from commonroad.common.util import FileFormat
+    from commonroad.planning.planning_problem import PlanningProblemSet
+    from commonroad.scenario.scenario import Scenario as CrScenario
+    from commonroad.scenario.scenario import Tag
 
 from vrusim.errors import UserInputError
 from vrusim.interop.commonroad_agents import (

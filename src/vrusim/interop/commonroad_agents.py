@@ -10,17 +10,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import shapely
-from commonroad.common.util import Interval
-from commonroad.geometry.obstacle_shapes.circle_obstacle_shape import CircleObstacleShape
-from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
-from commonroad.geometry.occupancy.rect_occupancy import RectOccupancy
-from commonroad.planning.goal import GoalRegion
-from commonroad.planning.planning_problem import PlanningProblem
-from commonroad.prediction.prediction import TrajectoryPrediction
-from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType, StaticObstacle
-from commonroad.scenario.state import ExtendedPMState, InitialState
-from commonroad.scenario.trajectory import Trajectory
+
+from vrusim.extras import extra
+
+with extra("export"):
+    import shapely
+    from commonroad.common.util import Interval
+    from commonroad.geometry.obstacle_shapes.circle_obstacle_shape import CircleObstacleShape
+    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
+    from commonroad.geometry.occupancy.rect_occupancy import RectOccupancy
+    from commonroad.planning.goal import GoalRegion
+    from commonroad.planning.planning_problem import PlanningProblem
+    from commonroad.prediction.prediction import TrajectoryPrediction
+    from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType, StaticObstacle
+    from commonroad.scenario.state import ExtendedPMState, InitialState
+    from commonroad.scenario.trajectory import Trajectory
 
 from vrusim.geometry.paths import path_poses
 from vrusim.scenario.routes import ego_route_spec

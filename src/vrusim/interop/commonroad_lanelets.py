@@ -15,9 +15,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from commonroad.common.common_lanelet import LaneletType, LineMarking
-from commonroad.scenario.intersection import IncomingGroup, Intersection
-from commonroad.scenario.lanelet import Lanelet, LaneletNetwork
+
+from vrusim.extras import extra
+
+with extra("export"):
+    from commonroad.common.common_lanelet import LaneletType, LineMarking
+    from commonroad.scenario.intersection import IncomingGroup, Intersection
+    from commonroad.scenario.lanelet import Lanelet, LaneletNetwork
 
 from vrusim.scenario.schema import Road
 

@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import math
 
-from scenariogeneration import xodr
+from vrusim.extras import extra
+
+with extra("export"):
+    from scenariogeneration import xodr
 
 from vrusim.scenario.schema import Road
 

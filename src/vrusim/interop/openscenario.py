@@ -12,7 +12,10 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from scenariogeneration import xodr, xosc
+from vrusim.extras import extra
+
+with extra("export"):
+    from scenariogeneration import xodr, xosc
 
 from vrusim.interop.opendrive import road_network
 from vrusim.interop.osc_entities import (

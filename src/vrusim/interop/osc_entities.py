@@ -11,7 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from scenariogeneration import xosc
+from vrusim.extras import extra
+
+with extra("export"):
+    from scenariogeneration import xosc
 
 from vrusim.scenario.schema import Ego, Obstacle, Vru
 from vrusim.scenario.vru_types import VruType

@@ -18,9 +18,9 @@ import zlib
 from typing import Any
 
 import numpy as np
-from scipy.special import ndtr, ndtri
 
 from vrusim.errors import UserInputError
+from vrusim.sweep.normal import normal_cdf, normal_quantile
 from vrusim.sweep.plan import TEST_COLUMN, SweepPlan
 from vrusim.sweep.spec import Parameter, correlation_matrix
 
@@ -90,12 +90,12 @@ def _from_normal(p: Parameter, z: np.ndarray) -> np.ndarray:
     """Standard normal draws `z` mapped onto the distribution of `p` (its inverse CDF at Φ(z))."""
     if p.kind == "normal":
         return p.mean + p.std * z
-    u = ndtr(z)
+    u = normal_cdf(z)
     if p.kind == "uniform":
         return np.minimum(p.low + u * (p.high - p.low), np.nextafter(p.high, p.low))  # U[low, high)
     if p.kind == "truncated_normal":
-        lo, hi = ndtr((p.low - p.mean) / p.std), ndtr((p.high - p.mean) / p.std)
-        return np.clip(p.mean + p.std * ndtri(lo + u * (hi - lo)), p.low, p.high)
+        lo, hi = normal_cdf((p.low - p.mean) / p.std), normal_cdf((p.high - p.mean) / p.std)
+        return np.clip(p.mean + p.std * normal_quantile(lo + u * (hi - lo)), p.low, p.high)
     weights = np.asarray(p.weights) if p.weights else np.full(len(p.values), 1.0 / len(p.values))
     index = np.minimum(np.searchsorted(np.cumsum(weights), u, side="right"), len(p.values) - 1)
     return _column(list(p.values))[index]

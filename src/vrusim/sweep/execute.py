@@ -14,10 +14,12 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
+from types import ModuleType
 
 import pyarrow as pa
 
 from vrusim.errors import UserInputError
+from vrusim.extras import extra
 from vrusim.sweep.chunk import ChunkTask, run_chunk
 
 MAX_POOL_RESTARTS = 3
@@ -94,14 +96,18 @@ def run_processes(tasks: Iterable[ChunkTask], workers: int, on_done: OnDone) -> 
             raise
 
 
+def dask_distributed() -> ModuleType:
+    """The `distributed` package, or a UserInputError naming the 'dask' extra (call it before starting)."""
+    with extra("dask"):
+        import distributed
+    return distributed
+
+
 def run_dask(tasks: Iterable[ChunkTask], scheduler: str, on_done: OnDone) -> None:
     """Every batch on the Dask cluster at `scheduler` (tcp://host:port); this process writes the results."""
+    distributed = dask_distributed()
     try:
-        from distributed import Client, as_completed
-    except ImportError:  # pragma: no cover (a dependency)
-        raise UserInputError("--scheduler: the Dask distributed package is not installed") from None
-    try:
-        client = Client(scheduler, timeout="10s")
+        client = distributed.Client(scheduler, timeout="10s")
     except (OSError, TimeoutError, ValueError) as error:
         raise UserInputError(f"--scheduler: cannot connect to the Dask scheduler at {scheduler} ({error})") from None
     try:
@@ -110,7 +116,7 @@ def run_dask(tasks: Iterable[ChunkTask], scheduler: str, on_done: OnDone) -> Non
             client.submit(run_chunk, task, key=f"vrusim-{task.plan_digest[:16]}-{task.index}", pure=False): task
             for task in batches
         }
-        for future in as_completed(futures):
+        for future in distributed.as_completed(futures):
             task = futures.pop(future)
             on_done(task, future.result())
             future.release()

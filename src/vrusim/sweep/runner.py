@@ -19,7 +19,7 @@ from vrusim.planners.registry import make_planner, plugin_source
 from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
-from vrusim.sweep.execute import run_dask, run_processes, run_serial
+from vrusim.sweep.execute import dask_distributed, run_dask, run_processes, run_serial
 from vrusim.sweep.plan import SweepPlan, VariantBuilder, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
@@ -227,6 +227,8 @@ def run_sweep(
     """Run (or resume) a sweep into `out`; returns counts and timing. Bad input raises UserInputError."""
     if workers < 1:
         raise UserInputError("--workers: expected a positive number of worker processes")
+    if scheduler:
+        dask_distributed()  # a missing extra is said before the output folder is made
     started = time.perf_counter()
     store = SweepStore(out)
     warnings: list[str] = []

@@ -2,14 +2,15 @@
 
 The artists are built once (`SceneArtists`) and moved per frame; the layout is computed once. GIF frames are
 quantised to one shared 256-colour palette with Pillow; MP4 is H.264 through the ffmpeg binary that
-imageio-ffmpeg ships (nothing is downloaded). The file is written atomically: a temporary file next to the
-target, renamed over it only when complete.
+imageio-ffmpeg ships (the 'video' extra; nothing is downloaded). The file is written atomically: a temporary
+file next to the target, renamed over it only when complete.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -18,6 +19,7 @@ from matplotlib.figure import Figure
 from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 from PIL import Image
 
+from vrusim.extras import extra
 from vrusim.io.atomic import write_atomically
 from vrusim.viz import style
 from vrusim.viz.figure_io import check_output_path
@@ -30,9 +32,12 @@ ANIMATION_SUFFIXES = (".gif", ".mp4")
 
 
 def check_animation_path(path: str | Path) -> Path:
-    """The path if an animation can be written there (.gif or .mp4, existing writable folder); else a
-    UserInputError saying why. Cheap: call it before simulating."""
-    return check_output_path(path, ANIMATION_SUFFIXES, "animation")
+    """The path if an animation can be written there (.gif or .mp4, existing writable folder; for .mp4 the
+    'video' extra installed); else a UserInputError saying why. Cheap: call it before simulating."""
+    path = check_output_path(path, ANIMATION_SUFFIXES, "animation")
+    if path.suffix.lower() == ".mp4":
+        _imageio_ffmpeg()
+    return path
 
 
 def frame_times(recording: Recording, fps: float = 25.0, speed: float = 1.0) -> np.ndarray:
@@ -179,9 +184,15 @@ def _swatch(width: int) -> np.ndarray:
     return np.repeat(strip[None, :, :], 16, axis=0)
 
 
-def _write_mp4(frames: Iterator[np.ndarray], temp: Path, fps: float) -> None:
-    import imageio_ffmpeg
+def _imageio_ffmpeg() -> ModuleType:
+    """imageio-ffmpeg (the 'video' extra), or a UserInputError naming the extra."""
+    with extra("video"):
+        import imageio_ffmpeg
+    return imageio_ffmpeg
 
+
+def _write_mp4(frames: Iterator[np.ndarray], temp: Path, fps: float) -> None:
+    imageio_ffmpeg = _imageio_ffmpeg()
     first = next(frames)
     height, width = first.shape[:2]
     writer = imageio_ffmpeg.write_frames(
