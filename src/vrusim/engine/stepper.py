@@ -18,7 +18,7 @@ from vrusim.engine.accumulators import RunMetrics
 from vrusim.geometry.contact import clearance_batch
 from vrusim.geometry.ttc import ttc_batch
 from vrusim.kernels import njit
-from vrusim.sim.compaction import take_ego, take_params, take_vrus
+from vrusim.sim.compaction import take
 from vrusim.sim.ego import advance_egos
 from vrusim.sim.observation import Observation, fuse
 from vrusim.sim.params import BatchParams
@@ -164,8 +164,8 @@ class BatchStepper:
         """Drop the stopped variants from the working set (their results are final); return the kept rows of
         the previous working set, for the planner's own `compact`."""
         keep = np.flatnonzero(self.active)
-        self.params = take_params(self.params, keep)
-        self.ego, self.vrus = take_ego(self.ego, keep), take_vrus(self.vrus, keep)
+        self.params = take(self.params, keep)
+        self.ego, self.vrus = take(self.ego, keep), take(self.vrus, keep)
         self.channel.compact(keep)
         self.sensor.compact(keep)
         self.metrics.merge(self.work)

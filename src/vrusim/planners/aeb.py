@@ -26,7 +26,7 @@ from vrusim.planners.conflict import new_tracks, update_track
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.compaction import take_attributes
+from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
@@ -106,7 +106,7 @@ class AebPlanner:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
-        take_attributes(self, ("table", "half_length", "rear_to_centre", "mode", "warning", "ttc_s", "tracks"), index)
+        take_members(self, index)
 
     def act(self, obs: Observation) -> np.ndarray:
         """Stage each variant from its smallest TTC; return the acceleration command."""

@@ -13,6 +13,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
@@ -39,7 +40,7 @@ class HoldSpeedPlanner:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
-        self.mode = self.mode[index]
+        take_members(self, index)
 
     def act(self, observation: Observation) -> np.ndarray:
         """Zero acceleration for every variant."""

@@ -30,7 +30,7 @@ from vrusim.kernels import batch_kernel, prange
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.compaction import take_attributes
+from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
@@ -78,7 +78,7 @@ class FsmPlanner:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
-        take_attributes(self, ("table", "zone_length", "mode", "tracks", "station"), index)
+        take_members(self, index)
 
     def act(self, obs: Observation) -> np.ndarray:
         """Update each variant's state from the nearest threatening VRU; return its acceleration command."""

@@ -21,7 +21,7 @@ Every step, for each tracked VRU (track memory as in `vrusim.planners.conflict`)
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
@@ -32,7 +32,7 @@ from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.prediction import CONSTANT_VELOCITY, PATH, occupancy_bounds, path_station_of, plan_start
 from vrusim.planners.route_ttc import route_ttc
 from vrusim.scenario.strict import StrictModel
-from vrusim.sim.compaction import take_attributes
+from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
@@ -102,6 +102,8 @@ class PredictivePlanner:
     """Cruise / yield / follow / stop / emergency brake from predicted corridor occupancy, per variant."""
 
     mode_names = ("cruise", "yield", "follow", "stop", "emergency_brake")
+    shared: ClassVar[frozenset[str]] = frozenset({"vru_paths"})
+    """The VRU path table (variants address it by `vru_path_offset`)."""
 
     def reset(self, params: BatchParams) -> None:
         """Read per-variant parameters and the VRUs' declared paths; start every variant in cruise."""
@@ -126,9 +128,7 @@ class PredictivePlanner:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones); VRU paths are shared."""
-        names = ("table", "kind", "vru_path_offset", "ego_length", "rear_to_centre", "mode", "command")
-        names += ("required_decel_mps2", "plan", "yielding", "path_station", "tracks", "station")
-        take_attributes(self, names, index)
+        take_members(self, index)
 
     def act(self, obs: Observation) -> np.ndarray:
         """Plan each variant from the predicted occupancy of its corridor; return the acceleration command."""

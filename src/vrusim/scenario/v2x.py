@@ -13,8 +13,8 @@ from types import MappingProxyType
 from typing import Any, Literal, Self
 
 from pydantic import (
-    BaseModel,
     Field,
+    SerializeAsAny,
     ValidationError,
     ValidatorFunctionWrapHandler,
     field_validator,
@@ -50,20 +50,31 @@ class Generation(StrictModel):
         return self
 
 
-class NoLoss(StrictModel):
+class LossSpec(StrictModel):
+    """Base of every loss model's parameters (`v2x.channel.loss`): `model` names the model in the registry.
+
+    A loss model's schema subclasses this with `model: Literal["<name>"] = "<name>"` and is registered with
+    `register_loss_schema` (the simulation side registers it together with its packing and step:
+    `vrusim.sim.v2x.loss.registry.register_loss_model`).
+    """
+
+    model: str
+
+
+class NoLoss(LossSpec):
     """Every message sent within range arrives."""
 
     model: Literal["none"] = "none"
 
 
-class BernoulliLoss(StrictModel):
+class BernoulliLoss(LossSpec):
     """Each message is lost independently with `probability`."""
 
     model: Literal["bernoulli"] = "bernoulli"
     probability: float = Field(ge=0, le=1)
 
 
-class GilbertElliottLoss(StrictModel):
+class GilbertElliottLoss(LossSpec):
     """Two-state Markov loss (Gilbert 1960, Elliott 1963) on the RSU→ego link, one transition per message.
 
     Before each message the link moves good→bad with `p_good_to_bad` and bad→good with `p_bad_to_good`;
@@ -94,7 +105,7 @@ class GilbertElliottLoss(StrictModel):
         return 1.0 / self.p_bad_to_good
 
 
-class DistanceLoss(StrictModel):
+class DistanceLoss(LossSpec):
     """Packet delivery ratio falling with the RSU–ego distance d: PDR(d) = 1 / (1 + exp((d - d50_m) / scale_m))."""
 
     model: Literal["distance"] = "distance"
@@ -108,12 +119,44 @@ class DistanceLoss(StrictModel):
 
 
 LossModel = NoLoss | BernoulliLoss | GilbertElliottLoss | DistanceLoss
-_LOSS_MODELS: dict[str, type[BaseModel]] = {
-    "none": NoLoss,
-    "bernoulli": BernoulliLoss,
-    "gilbert_elliott": GilbertElliottLoss,
-    "distance": DistanceLoss,
-}
+"""The built-in loss models (more can be registered: `register_loss_schema`)."""
+_LOSS_MODELS: dict[str, type[LossSpec]] = {}
+
+
+def loss_model_name(schema: type[LossSpec]) -> str:
+    """The `model` name a loss schema declares (the default of its `model` field)."""
+    name = schema.model_fields["model"].default
+    if not isinstance(name, str) or not name:
+        raise TypeError(f"{schema.__name__}: a loss model declares its name as the default of `model`")
+    return name
+
+
+def register_loss_schema(schema: type[LossSpec]) -> str:
+    """Make `loss.model: <name>` validate with `schema`; return the name. A name is registered once."""
+    if not (isinstance(schema, type) and issubclass(schema, LossSpec)):
+        raise TypeError(f"{schema!r}: a loss model schema subclasses vrusim.scenario.v2x.LossSpec")
+    name = loss_model_name(schema)
+    if _LOSS_MODELS.get(name, schema) is not schema:
+        raise ValueError(f"loss model {name!r} is already registered (by {_LOSS_MODELS[name].__name__})")
+    _LOSS_MODELS[name] = schema
+    return name
+
+
+def unregister_loss_schema(name: str) -> None:
+    """Forget loss model `name` (plug-ins and tests; the built-ins cannot be removed)."""
+    if name in _BUILTIN_LOSS_MODELS:
+        raise ValueError(f"loss model {name!r} is built in")
+    _LOSS_MODELS.pop(name, None)
+
+
+def loss_schemas() -> Mapping[str, type[LossSpec]]:
+    """The registered loss models' schemas by name (a read-only view)."""
+    return MappingProxyType(_LOSS_MODELS)
+
+
+_BUILTIN_LOSS_MODELS = tuple(
+    register_loss_schema(schema) for schema in (NoLoss, BernoulliLoss, GilbertElliottLoss, DistanceLoss)
+)
 
 
 class Outage(StrictModel):
@@ -139,7 +182,7 @@ class ChannelSpec(StrictModel):
     generation: Generation = Generation()
     latency_s: float = Field(0.0, ge=0, le=10, description="fixed end-to-end delay, s")
     jitter_s: float = Field(0.0, ge=0, le=10, description="extra delay, uniform in [0, jitter_s], s")
-    loss: LossModel = NoLoss()
+    loss: SerializeAsAny[LossSpec] = NoLoss()
     outages: tuple[Outage, ...] = Field((), max_length=16, strict=False)  # a YAML list
     rsu_position_sigma_m: float = Field(0.0, ge=0, description="std. dev. of each reported position coordinate, m")
     rsu_speed_sigma_mps: float = Field(0.0, ge=0, description="std. dev. of each reported velocity component, m/s")
@@ -149,10 +192,12 @@ class ChannelSpec(StrictModel):
     @classmethod
     def _typed_loss(cls, value: Any, handler: ValidatorFunctionWrapHandler) -> Any:
         """Validate `loss` as the model its `model` key names, so that errors read `loss.probability`."""
+        if isinstance(value, LossSpec) and _LOSS_MODELS.get(value.model) is not type(value):
+            raise ValueError(f"loss model {value.model!r} ({type(value).__name__}) is not registered")
         if not isinstance(value, dict):
             return handler(value)
         name = value.get("model", "none")
-        if name not in _LOSS_MODELS:
+        if not isinstance(name, str) or name not in _LOSS_MODELS:
             raise ValueError(f"unknown loss model {name!r}; expected one of: {', '.join(_LOSS_MODELS)}")
         return _LOSS_MODELS[name].model_validate(value)  # its errors are reported under `loss`
 

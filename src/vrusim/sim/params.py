@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -22,6 +23,9 @@ _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
 @dataclass
 class BatchParams:
     """Constant per-variant parameters of a batch. Shapes: [B] or [B, K]; SI units."""
+
+    shared: ClassVar[frozenset[str]] = frozenset({"routes", "vru_paths"})
+    """Path tables shared by all variants (each addresses its rows by offset): kept whole by `take`."""
 
     scenarios: list[Scenario]
     dt_s: float

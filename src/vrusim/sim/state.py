@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -42,6 +43,8 @@ KINEMATICS = ("x_m", "y_m", "vx_mps", "vy_mps", "ax_mps2", "ay_mps2")
 @dataclass
 class VruState:
     """Path-constrained point masses, [B, K]. `kinematics` [6, B, K] stacks the rows of `KINEMATICS`."""
+
+    variant_axes: ClassVar[dict[str, int]] = {"kinematics": 1}
 
     started: np.ndarray
     started_at_s: np.ndarray

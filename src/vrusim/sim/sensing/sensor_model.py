@@ -17,13 +17,13 @@ step m without noise. Every draw is keyed by the variant's seed and the measurem
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 
 from vrusim.kernels import batch_kernel, prange
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.compaction import take_attributes
+from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
 
@@ -97,6 +97,8 @@ class RealisticSensor:
     [D, 6, B, K], and the report held since the last frame (detected [B, K], estimate [6, B, K]).
     """
 
+    variant_axes: ClassVar[dict[str, int]] = {"seen": 1, "history": 2, "held_estimate": 1}
+
     def reset(self, params: BatchParams) -> None:
         """Per-variant settings from `params.scenarios`; empty ring buffer and no report held."""
         scenarios = params.scenarios
@@ -115,10 +117,7 @@ class RealisticSensor:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
-        take_attributes(self, ("seed", "latency", "period", "probability", "position_sigma_m"), index)
-        take_attributes(self, ("velocity_sigma_mps", "held"), index)
-        take_attributes(self, ("seen", "held_estimate"), index, axis=1)
-        take_attributes(self, ("history",), index, axis=2)
+        take_members(self, index)
 
     def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Store this step's truth; report the frame measured L steps ago if one was, else hold the last."""

@@ -8,32 +8,24 @@ about a VRU is the newest message delivered, predicted forward at constant veloc
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import numpy as np
 
-from vrusim.scenario.v2x import (
-    BernoulliLoss,
-    ChannelSpec,
-    DistanceLoss,
-    GilbertElliottLoss,
-    NoLoss,
-)
-from vrusim.sim.compaction import take_attributes
+from vrusim.scenario.v2x import ChannelSpec
+from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.v2x import kernels as kern
+from vrusim.sim.v2x.loss.registry import LossContext, LossModelEntry, loss_entries, loss_entry
 from vrusim.sim.v2x.messages import Channel, IdealChannel, V2xMessages
 
-_PER_VARIANT = (
-    "seed", "mode", "loss_model", "cfg", "outage_start", "outage_end", "outage_count", "last_gen", "due", "force",
-    "ref", "was_covered", "link_state", "buf_gen", "buf_due", "buf_kin", "buf_head", "buf_count", "message_step",
-    "track_kin", "generated", "delivered",
-)  # fmt: skip
-"""RealisticChannel's arrays, all with the variant on the first axis."""
+_NO_PLUGIN_LOSS = np.zeros((1, 1), dtype=bool)
+"""`external_lost` of a batch without plug-in loss models (never read)."""
 _MODES = {"every_step": kern.MODE_EVERY_STEP, "periodic": kern.MODE_PERIODIC, "etsi_vam": kern.MODE_ETSI_VAM}
 
 
-def channel_config(spec: ChannelSpec, dt_s: float) -> tuple[int, int, np.ndarray]:
-    """(generation mode, loss model, cfg row [N_CFG]) of one variant's channel."""
+def channel_config(spec: ChannelSpec, dt_s: float) -> tuple[int, int, np.ndarray, tuple[float, ...]]:
+    """(generation mode, loss model code, cfg row [N_CFG], loss parameters) of one variant's channel."""
     gen, loss = spec.generation, spec.loss
     row = np.zeros(kern.N_CFG)
     row[kern.CFG_PERIOD_STEPS] = 1.0 / (gen.rate_hz * dt_s) if gen.mode == "periodic" else 0.0
@@ -47,20 +39,8 @@ def channel_config(spec: ChannelSpec, dt_s: float) -> tuple[int, int, np.ndarray
     row[kern.CFG_POSITION_SIGMA_M] = spec.rsu_position_sigma_m
     row[kern.CFG_SPEED_SIGMA_MPS] = spec.rsu_speed_sigma_mps
     row[kern.CFG_MAX_AGE_S] = spec.track_max_age_s
-    if isinstance(loss, BernoulliLoss):
-        model = kern.LOSS_BERNOULLI
-        row[kern.CFG_LOSS_A] = loss.probability
-    elif isinstance(loss, GilbertElliottLoss):
-        model = kern.LOSS_GILBERT_ELLIOTT
-        row[kern.CFG_LOSS_A], row[kern.CFG_LOSS_B] = loss.p_good_to_bad, loss.p_bad_to_good
-        row[kern.CFG_LOSS_GOOD], row[kern.CFG_LOSS_BAD] = loss.loss_good, loss.loss_bad
-    elif isinstance(loss, DistanceLoss):
-        model = kern.LOSS_DISTANCE
-        row[kern.CFG_LOSS_A], row[kern.CFG_LOSS_B] = loss.d50_m, loss.scale_m
-    else:
-        assert isinstance(loss, NoLoss)
-        model = kern.LOSS_NONE
-    return _MODES[gen.mode], model, row
+    entry = loss_entry(loss)
+    return _MODES[gen.mode], entry.code, row, tuple(float(v) for v in entry.pack(loss))
 
 
 def queue_capacity(spec: ChannelSpec, dt_s: float) -> int:
@@ -80,18 +60,27 @@ class RealisticChannel:
     delivered to the ego (a message overtaken by a newer one is never delivered).
     """
 
+    shared: ClassVar[frozenset[str]] = frozenset({"plugins"})
+
     def reset(self, params: BatchParams) -> None:
         """Pack every variant's channel spec and clear the RSU, link, queue and track state."""
         B, K = params.size, params.vru_slots
         dt = params.dt_s
         specs = [s.v2x.channel_spec for s in params.scenarios]
-        unique: dict[ChannelSpec, tuple[int, int, np.ndarray]] = {}
+        unique: dict[ChannelSpec, tuple[int, int, np.ndarray, tuple[float, ...]]] = {}
         rows = [unique[spec] if spec in unique else unique.setdefault(spec, channel_config(spec, dt)) for spec in specs]
         self.dt_s = dt
         self.seed = np.ascontiguousarray(params.seed, dtype=np.int64)
         self.mode = np.array([r[0] for r in rows], dtype=np.int8)
         self.loss_model = np.array([r[1] for r in rows], dtype=np.int8)
         self.cfg = np.stack([r[2] for r in rows])
+        self.loss_params = np.zeros((B, max(1, *(len(r[3]) for r in rows))))
+        for b, r in enumerate(rows):
+            self.loss_params[b, : len(r[3])] = r[3]
+        codes = set(self.loss_model.tolist())
+        self.plugins: tuple[LossModelEntry, ...] = tuple(
+            e for e in loss_entries().values() if e.lost is not None and e.code in codes
+        )
         most = max(len(spec.outages) for spec in specs)
         self.outage_start, self.outage_end = np.zeros((B, most)), np.zeros((B, most))
         self.outage_count = np.array([len(spec.outages) for spec in specs], dtype=np.int64)
@@ -117,7 +106,7 @@ class RealisticChannel:
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
-        take_attributes(self, _PER_VARIANT, index)
+        take_members(self, index)
 
     def deliver(self, t_s: float, sent: V2xMessages) -> V2xMessages:
         """What each ego knows at `t_s`: its VRU tracks from the messages delivered so far, predicted to now."""
@@ -127,6 +116,7 @@ class RealisticChannel:
         received = np.empty(sent.received.shape, dtype=bool)
         kinematics = np.empty(sent.kinematics.shape)
         age = np.empty(sent.received.shape)
+        external_lost = self._plugin_losses(n, covered, sent.kinematics, link) if self.plugins else _NO_PLUGIN_LOSS
         kern.channel_step(
             self.seed.shape[0],
             n,
@@ -135,6 +125,7 @@ class RealisticChannel:
             self.mode,
             self.loss_model,
             self.cfg,
+            self.loss_params,
             self.outage_start,
             self.outage_end,
             self.outage_count,
@@ -157,11 +148,29 @@ class RealisticChannel:
             self.track_kin,
             self.generated,
             self.delivered,
+            external_lost,
             received,
             kinematics,
             age,
         )
         return V2xMessages(received, kinematics, age, sent.covered, sent.link_distance_m)
+
+    def _plugin_losses(self, n: int, covered: np.ndarray, kin: np.ndarray, link: np.ndarray) -> np.ndarray:
+        """The plug-in loss models' decisions for the messages generated at step n (NumPy path)."""
+        generate = np.empty(covered.shape, dtype=bool)
+        kern.generation_mask(
+            covered.shape[0], n, self.mode, self.cfg, covered, self.was_covered, self.last_gen, self.due,
+            self.force, self.ref, kin, generate,
+        )  # fmt: skip
+        lost = np.zeros(covered.shape, dtype=bool)
+        for entry in self.plugins:
+            rows = np.flatnonzero(self.loss_model == entry.code)
+            if rows.size:
+                context = LossContext(
+                    n, self.dt_s, rows, generate, self.generated, self.seed, self.loss_params, link, self.link_state
+                )
+                lost[rows] = np.asarray(entry.lost(context), dtype=bool) & generate[rows]
+        return lost
 
 
 def make_channel(params: BatchParams) -> Channel:

@@ -11,10 +11,19 @@ from __future__ import annotations
 import math
 
 from vrusim.kernels import batch_kernel, njit, prange
-from vrusim.sim.rng import STREAM_RSU_NOISE, STREAM_V2X_JITTER, STREAM_V2X_LOSS, STREAM_V2X_STATE, normal, uniform
+from vrusim.sim.rng import STREAM_RSU_NOISE, STREAM_V2X_JITTER, normal, uniform
+from vrusim.sim.v2x.loss import bernoulli, distance, gilbert_elliott, none
+from vrusim.sim.v2x.loss.registry import PLUGIN_CODE
 
 MODE_EVERY_STEP, MODE_PERIODIC, MODE_ETSI_VAM = 0, 1, 2
-LOSS_NONE, LOSS_BERNOULLI, LOSS_GILBERT_ELLIOTT, LOSS_DISTANCE = 0, 1, 2, 3
+LOSS_NONE, LOSS_BERNOULLI, LOSS_GILBERT_ELLIOTT, LOSS_DISTANCE = (
+    none.CODE,
+    bernoulli.CODE,
+    gilbert_elliott.CODE,
+    distance.CODE,
+)
+LOSS_PLUGIN = PLUGIN_CODE
+"""Loss-model codes at or above this are plug-ins, decided before the kernel (`external_lost`)."""
 
 # columns of the per-variant configuration array cfg [B, N_CFG]
 CFG_PERIOD_STEPS = 0  # periodic: 1 / (rate_hz dt)
@@ -25,14 +34,11 @@ CFG_VAM_SPEED_MPS = 4
 CFG_VAM_COS_HEADING = 5  # cos of the heading threshold
 CFG_LATENCY_S = 6
 CFG_JITTER_S = 7
-CFG_LOSS_A = 8  # bernoulli: probability; gilbert_elliott: p_good_to_bad; distance: d50_m
-CFG_LOSS_B = 9  # gilbert_elliott: p_bad_to_good; distance: scale_m
-CFG_LOSS_GOOD = 10
-CFG_LOSS_BAD = 11
-CFG_POSITION_SIGMA_M = 12
-CFG_SPEED_SIGMA_MPS = 13
-CFG_MAX_AGE_S = 14
-N_CFG = 15
+CFG_POSITION_SIGMA_M = 8
+CFG_SPEED_SIGMA_MPS = 9
+CFG_MAX_AGE_S = 10
+N_CFG = 11
+# the loss model's parameters are in their own array loss_params [B, P] (each model's `pack`: sim/v2x/loss/)
 
 _STEP_TOLERANCE = 1e-6
 """Tolerance of step-count comparisons (intervals in steps are real numbers)."""
@@ -41,7 +47,7 @@ _TIME_TOLERANCE = 1e-9
 
 
 @njit(cache=True, inline="always")
-def _wants_message(n, b, k, mode, cfg, last_gen, due, force, ref, kin):  # pragma: no cover (compiled)
+def _wants_message(n, b, k, mode, cfg, last_gen, due, forced, ref, kin):  # pragma: no cover (compiled)
     """Whether the RSU generates a message about covered VRU k of variant b at step n."""
     if mode == MODE_EVERY_STEP:
         return True
@@ -52,7 +58,7 @@ def _wants_message(n, b, k, mode, cfg, last_gen, due, force, ref, kin):  # pragm
     elapsed = n - last_gen[b, k]
     if elapsed < cfg[b, CFG_VAM_MIN_STEPS] - _STEP_TOLERANCE:
         return False
-    if force[b, k] or elapsed >= cfg[b, CFG_VAM_MAX_STEPS] - _STEP_TOLERANCE:
+    if forced or elapsed >= cfg[b, CFG_VAM_MAX_STEPS] - _STEP_TOLERANCE:
         return True
     dx, dy = kin[0, b, k] - ref[b, k, 0], kin[1, b, k] - ref[b, k, 1]
     threshold = cfg[b, CFG_VAM_POSITION_M]
@@ -66,26 +72,16 @@ def _wants_message(n, b, k, mode, cfg, last_gen, due, force, ref, kin):  # pragm
 
 
 @njit(cache=True, inline="always")
-def _lost(n, b, k, seed, loss_model, cfg, link_state, link_distance):  # pragma: no cover (compiled)
-    """Whether the message of VRU k generated at step n is lost; advances the Gilbert–Elliott link state."""
+def _lost(n, b, k, seed, loss_model, loss_params, link_state, link_distance, external_lost):  # pragma: no cover
+    """Whether the message of VRU k generated at step n is lost (each built-in model: sim/v2x/loss/<model>.py)."""
     if loss_model == LOSS_BERNOULLI:
-        return uniform(seed, n, STREAM_V2X_LOSS, k) < cfg[b, CFG_LOSS_A]
+        return bernoulli.lost(n, b, k, seed, loss_params, link_state, link_distance)
     if loss_model == LOSS_GILBERT_ELLIOTT:
-        p_gb, p_bg = cfg[b, CFG_LOSS_A], cfg[b, CFG_LOSS_B]
-        u = uniform(seed, n, STREAM_V2X_STATE, k)
-        state = link_state[b]
-        if state < 0:  # first message: the stationary distribution
-            state = 1 if u < p_gb / (p_gb + p_bg) else 0
-        elif state == 0:
-            state = 1 if u < p_gb else 0
-        else:
-            state = 0 if u < p_bg else 1
-        link_state[b] = state
-        loss = cfg[b, CFG_LOSS_BAD] if state == 1 else cfg[b, CFG_LOSS_GOOD]
-        return uniform(seed, n, STREAM_V2X_LOSS, k) < loss
+        return gilbert_elliott.lost(n, b, k, seed, loss_params, link_state, link_distance)
     if loss_model == LOSS_DISTANCE:
-        z = min((link_distance - cfg[b, CFG_LOSS_A]) / cfg[b, CFG_LOSS_B], 700.0)
-        return uniform(seed, n, STREAM_V2X_LOSS, k) >= 1.0 / (1.0 + math.exp(z))
+        return distance.lost(n, b, k, seed, loss_params, link_state, link_distance)
+    if loss_model >= LOSS_PLUGIN:
+        return external_lost[b, k]
     return False
 
 
@@ -160,6 +156,7 @@ def channel_step(
     mode,
     loss_model,
     cfg,
+    loss_params,
     outage_start,
     outage_end,
     outage_count,
@@ -182,6 +179,7 @@ def channel_step(
     track_kin,
     generated,
     delivered,
+    external_lost,
     received,
     out_kin,
     age,
@@ -194,7 +192,7 @@ def channel_step(
             if covered[b, k]:
                 if not was_covered[b, k]:
                     force[b, k] = True
-                if _wants_message(n, b, k, mode[b], cfg, last_gen, due, force, ref, kin):
+                if _wants_message(n, b, k, mode[b], cfg, last_gen, due, force[b, k], ref, kin):
                     generated[b, k] += 1
                     last_gen[b, k] = n
                     force[b, k] = False
@@ -203,7 +201,9 @@ def channel_step(
                     # periodic schedule: the next slot, or a fresh start after a skipped slot (VRU not covered)
                     on_time = n < due[b, k] + 1.0 - _STEP_TOLERANCE
                     due[b, k] = (due[b, k] if on_time else n) + cfg[b, CFG_PERIOD_STEPS]
-                    lost = _lost(n, b, k, seed[b], loss_model[b], cfg, link_state, link_distance[b])
+                    lost = _lost(
+                        n, b, k, seed[b], loss_model[b], loss_params, link_state, link_distance[b], external_lost
+                    )
                     if in_range[b, k] and not lost:
                         delay = cfg[b, CFG_LATENCY_S]
                         if cfg[b, CFG_JITTER_S] > 0.0:
@@ -234,3 +234,14 @@ def channel_step(
             if n > g:  # constant-velocity prediction over the message's age
                 out_kin[0, b, k] += track_kin[b, k, 2] * a
                 out_kin[1, b, k] += track_kin[b, k, 3] * a
+
+
+@batch_kernel
+def generation_mask(n, mode, cfg, covered, was_covered, last_gen, due, force, ref, kin, out):  # pragma: no cover
+    """Which messages `channel_step` will generate at step n (out [B, K]), without changing any state: what
+    plug-in loss models decide on before the kernel runs."""
+    B, K = covered.shape
+    for b in prange(B):
+        for k in range(K):
+            forced = force[b, k] or not was_covered[b, k]
+            out[b, k] = covered[b, k] and _wants_message(n, b, k, mode[b], cfg, last_gen, due, forced, ref, kin)
