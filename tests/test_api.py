@@ -305,7 +305,7 @@ def test_to_arrow_and_to_pandas_columns_and_types(pedestrian):
 def test_to_pandas_names_the_missing_package(pedestrian, monkeypatch):
     results = vrusim.run(pedestrian)
     monkeypatch.setitem(sys.modules, "pandas", None)
-    with pytest.raises(ImportError, match=r"to_pandas\(\) needs pandas.*pip install pandas"):
+    with pytest.raises(ImportError, match=r"to_pandas\(\) needs the 'pandas' extra.*pip install 'vrusim\[pandas\]'"):
         results.to_pandas()
 
 

@@ -40,6 +40,7 @@ EXTRAS: dict[str, Extra] = {
     "gym": Extra("vrusim.gym (the Gymnasium environments)", {"gymnasium": "gymnasium"}),
     "dask": Extra("--scheduler (a Dask cluster)", {"dask": "dask", "distributed": "distributed"}),
     "video": Extra("an MP4 animation", {"imageio_ffmpeg": "imageio-ffmpeg"}),
+    "pandas": Extra("to_pandas()", {"pandas": "pandas"}),
 }
 """Every extra but `all` (all of these) and `test` (all, and the test tools)."""
 

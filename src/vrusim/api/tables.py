@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 import pyarrow as pa
 
+from vrusim.extras import extra
+
 if TYPE_CHECKING:
     import pandas
 
@@ -47,12 +49,11 @@ def arrow_table(rows: Sequence[Mapping[str, Any]], types: Mapping[str, pa.DataTy
     return table if schema.equals(table.schema) else table.cast(schema)
 
 
-def pandas_frame(table: pa.Table, caller: str = "to_pandas()") -> pandas.DataFrame:
-    """The table as a pandas DataFrame; pandas is optional, so its absence is an ImportError saying what to do."""
-    try:
+def pandas_frame(table: pa.Table) -> pandas.DataFrame:
+    """The table as a pandas DataFrame; pandas is the optional `pandas` extra, so its absence is a
+    `MissingExtraError` (an ImportError) saying what to install."""
+    with extra("pandas"):
         import pandas  # noqa: F401
-    except ImportError:
-        raise ImportError(f"{caller} needs pandas, which vrusim does not install: pip install pandas") from None
     return table.to_pandas()
 
 
