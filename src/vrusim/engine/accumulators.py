@@ -29,7 +29,7 @@ REDUCTIONS = {
     "max": "running maximum over the active steps",
     "min": "running minimum over the active steps",
     "sum": "running sum over the active steps (a time integral: value x dt)",
-    "first": "time of the first active step with the event, interpolated inside it (NaN until then)",
+    "first": "time of the first active step with the event (NaN until then)",
     "at": "value or time taken at another row's event (the minimum, the first contact, the first warning)",
     "last": "value at the end of the last active step",
     "carry": "the previous step's value, kept for the next step (not a result)",

@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     from vrusim.engine.simulate import BatchRun
 
 __all__ = [
+    "DTYPES",
     "GROUPS",
     "IDENTITY_KEYS",
     "METRIC_REDUCTIONS",
@@ -38,9 +39,11 @@ __all__ = [
     "column_dtype",
     "from_accumulator",
     "get_metric",
+    "groups",
     "is_builtin",
     "metrics",
     "register_metric",
+    "score_profile_names",
     "unregister_metric",
 ]
 
@@ -89,6 +92,8 @@ class Metric:
     """Label where space is short (the terminal summary); default: `label`."""
     source: str = "docs/metrics.md"
     """Where the formula is derived and its sources cited (a section of docs/metrics.md)."""
+    accumulator: str = ""
+    """The engine's accumulator row it is, as is (`from_accumulator`); "" for a metric computed from several."""
     split: Callable[[BatchView, np.ndarray], dict[str, np.ndarray]] | None = field(default=None, repr=False)
     """For a metric that is several columns (one per planner mode): its columns from the computed values."""
     to_json: Callable[[BatchView, dict[str, np.ndarray], int], Any] | None = field(default=None, repr=False)
@@ -176,8 +181,10 @@ def get_metric(name: str) -> Metric:
 def _check(metric: Metric) -> None:
     if not metric.name.isidentifier() or metric.name != metric.name.lower():
         raise ValueError(f"metric name {metric.name!r}: expected a snake_case identifier")
-    if metric.name in _METRICS or metric.name in IDENTITY_KEYS:
+    if metric.name in _METRICS:
         raise ValueError(f"metric {metric.name!r} is already declared")
+    if metric.name in IDENTITY_KEYS:
+        raise ValueError(f"metric name {metric.name!r}: a summary row's key for what ran ({', '.join(IDENTITY_KEYS)})")
     for attribute, allowed in (("dtype", DTYPES), ("group", GROUPS), ("reduce", tuple(METRIC_REDUCTIONS))):
         if getattr(metric, attribute) not in allowed:
             raise ValueError(f"metric {metric.name}: {attribute} {getattr(metric, attribute)!r} not in {allowed}")
@@ -244,7 +251,8 @@ def from_accumulator(
     def compute(view: BatchView) -> np.ndarray:
         return getattr(view.accumulators, row)
 
-    return Metric(name, unit, label, doc, compute, reduce=_ACCUMULATOR_REDUCE[row], source=source, **kwargs)
+    reduce = _ACCUMULATOR_REDUCE[row]
+    return Metric(name, unit, label, doc, compute, reduce=reduce, source=source, accumulator=row, **kwargs)
 
 
 def _collided(view: BatchView) -> np.ndarray:
