@@ -82,31 +82,11 @@ SUMMARY_KEYS = [
 ]
 """The summary row's keys in order, as before the catalogue (JSON of `vrusim run --json`)."""
 FLOATS = [
-    "contact_time_s",
-    "impact_ego_speed_mps",
-    "impact_relative_speed_mps",
-    "impact_relative_longitudinal_speed_mps",
-    "impact_point_x_m",
-    "impact_point_y_m",
-    "impact_lateral_fraction",
-    "first_sensor_detection_s",
-    "first_v2x_message_s",
-    "first_warning_s",
-    "warning_ttc_s",
-    "min_clearance_m",
-    "min_ttc_s",
-    "peak_accel_mps2",
-    "peak_decel_mps2",
-    "peak_jerk_mps3",
-    "peak_lateral_accel_mps2",
-    "rms_accel_mps2",
-    "rms_jerk_mps3",
-    "travel_time_s",
-    "trip_time_s",
-    "free_travel_time_s",
-    "end_time_s",
-    "final_speed_mps",
+    key
+    for key in SUMMARY_KEYS[SUMMARY_KEYS.index("contact_time_s") : SUMMARY_KEYS.index("safety")]
+    if key not in ("impact_side", "impact_vru", "first_mode_s", "transitions")
 ]
+"""The float measure columns: the metrics of the summary row but the outcome columns, planner ones and scores."""
 FSM_COLUMNS = [
     *("outcome", "collided", "impact_side", "impact_vru"),
     *FLOATS,

@@ -16,6 +16,7 @@ through `register_metric` (docs/metrics.md, "The catalogue").
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -96,8 +97,8 @@ class Metric:
     """The engine's accumulator row it is, as is (`from_accumulator`); "" for a metric computed from several."""
     split: Callable[[BatchView, np.ndarray], dict[str, np.ndarray]] | None = field(default=None, repr=False)
     """For a metric that is several columns (one per planner mode): its columns from the computed values."""
-    to_json: Callable[[BatchView, dict[str, np.ndarray], int], Any] | None = field(default=None, repr=False)
-    """For a metric whose JSON value is not its column's value: the value of variant b (view, columns, b)."""
+    to_json: Callable[[BatchView, dict[str, np.ndarray]], list] | None = field(default=None, repr=False)
+    """For a metric whose JSON value is not its column's value: the value of each variant (view, columns)."""
 
     def columns(self, view: BatchView) -> dict[str, np.ndarray]:
         """The result columns of this metric for a batch (float64 columns: NaN where absent or not finite)."""
@@ -111,23 +112,23 @@ class Metric:
                 out[name] = np.where(np.isfinite(column), column, np.nan)
         return out
 
-    def json_value(self, view: BatchView, columns: dict[str, np.ndarray], b: int) -> Any:
-        """The JSON value of variant b (never NaN: an absent value is None)."""
+    def json_values(self, view: BatchView, columns: dict[str, np.ndarray]) -> list:
+        """The JSON value of each variant (never NaN: an absent value is None), from the batch's `columns`."""
         if self.to_json is not None:
-            return self.to_json(view, columns, b)
-        value = columns[self.name][b]
+            return self.to_json(view, columns)
+        values = columns[self.name].tolist()
         if self.dtype == "float64":
-            return _number(value, self.digits)
+            return [_number(x, self.digits) for x in values]
         if self.dtype == "bool":
-            return bool(value)
+            return [bool(x) for x in values]
         if self.dtype == "int64":
-            return int(value)
-        return None if value is None else str(value)
+            return [int(x) for x in values]
+        return [None if x is None else str(x) for x in values]
 
 
-def _number(value: Any, digits: int | None) -> float | int | None:
+def _number(value: float, digits: int | None) -> float | int | None:
     x = float(value)
-    if not np.isfinite(x):
+    if not math.isfinite(x):
         return None
     return int(x) if digits is None else round(x, digits)
 
@@ -287,8 +288,10 @@ def _mode_columns(view: BatchView, values: np.ndarray) -> dict[str, np.ndarray]:
     return {f"first_{mode}_s": values[:, i] for i, mode in enumerate(view.run.mode_names[1:])}
 
 
-def _first_modes_json(view: BatchView, columns: dict[str, np.ndarray], b: int) -> dict[str, float | None]:
-    return {mode: _number(columns[f"first_{mode}_s"][b], 6) for mode in view.run.mode_names[1:]}
+def _first_modes_json(view: BatchView, columns: dict[str, np.ndarray]) -> list[dict[str, float | None]]:
+    modes = view.run.mode_names[1:]
+    per_mode = {mode: [_number(x, 6) for x in columns[f"first_{mode}_s"].tolist()] for mode in modes}
+    return [{mode: values[b] for mode, values in per_mode.items()} for b in range(view.size)]
 
 
 def _transition_count(view: BatchView) -> np.ndarray:
@@ -296,16 +299,12 @@ def _transition_count(view: BatchView) -> np.ndarray:
     return np.bincount(variants, minlength=view.size).astype(np.int64)
 
 
-def _transitions_by_variant(view: BatchView) -> dict[int, list[dict]]:
+def _transitions_json(view: BatchView, columns: dict[str, np.ndarray]) -> list[list[dict]]:
     names = view.run.mode_names
-    per_variant: dict[int, list[dict]] = {}
+    per_variant: list[list[dict]] = [[] for _ in range(view.size)]
     for t, v, a, c in view.accumulators.transitions:
-        per_variant.setdefault(v, []).append({"t_s": round(t, 6), "from": names[a], "to": names[c]})
+        per_variant[v].append({"t_s": round(t, 6), "from": names[a], "to": names[c]})
     return per_variant
-
-
-def _transitions_json(view: BatchView, columns: dict[str, np.ndarray], b: int) -> list[dict]:
-    return view.shared("transitions_by_variant", _transitions_by_variant).get(b, [])
 
 
 def _rms(sum_row: str) -> Compute:

@@ -14,12 +14,12 @@ def summary_rows(run: BatchRun) -> list[dict]:
     """A JSON-ready dict per variant."""
     view = BatchView(run)
     columns = columns_of(view)
-    catalogue = metrics()
+    values = {metric.name: metric.json_values(view, columns) for metric in metrics()}
     profiles = score_profile_names(view)
     rows = []
     for b, scenario in enumerate(run.params.scenarios):
         row = {"scenario": scenario.name, "v2x": bool(scenario.v2x.enabled), "planner": scenario.planner.name}
-        row.update({metric.name: metric.json_value(view, columns, b) for metric in catalogue})
+        row.update({name: per_variant[b] for name, per_variant in values.items()})
         row["score_profile"] = profiles[b]
         rows.append(row)
     return rows
