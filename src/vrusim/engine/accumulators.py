@@ -7,6 +7,7 @@ readable as an attribute (`metrics.min_ttc_s`, ...). Definitions are in docs/met
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -14,74 +15,96 @@ from vrusim.geometry.contact import clearance_local, to_local
 from vrusim.kernels import batch_kernel, prange
 from vrusim.sim.params import BatchParams
 
-FIELDS = (
-    "peak_accel_mps2",
-    "peak_decel_mps2",
-    "peak_jerk_mps3",
-    "peak_lateral_accel_mps2",
-    "sum_accel_sq",
-    "sum_jerk_sq",
-    "elapsed_s",
-    "min_clearance_m",
-    "min_clearance_time_s",
-    "min_ttc_s",
-    "min_ttc_time_s",
-    "travel_time_s",
-    "contact_time_s",
-    "impact_ego_speed_mps",
-    "impact_relative_speed_mps",
-    "impact_relative_longitudinal_mps",
-    "impact_local_x_m",
-    "impact_local_y_m",
-    "impact_vru",
-    "first_sensor_s",
-    "first_v2x_s",
-    "end_time_s",
-    "final_speed_mps",
-    "final_station_m",
-    "prev_actuator",
-    "prev_clearance",
-    "prev_speed",
-    "prev_ttc_s",
-    "prev_ttc_vru",
-    "first_warning_s",
-    "warning_ttc_s",
+
+class Accumulator(NamedTuple):
+    """One row of `RunMetrics.values`: its name (unit as suffix), how the step loop reduces it, what it holds."""
+
+    name: str
+    reduce: str
+    """A key of `REDUCTIONS`."""
+    doc: str
+
+
+REDUCTIONS = {
+    "max": "running maximum over the active steps",
+    "min": "running minimum over the active steps",
+    "sum": "running sum over the active steps (a time integral: value x dt)",
+    "first": "time of the first active step with the event (NaN until then)",
+    "at": "value or time taken at another row's event (the minimum, the first contact, the first warning)",
+    "last": "value at the end of the last active step",
+    "carry": "the previous step's value, kept for the next step (not a result)",
+}
+"""How the step loop reduces an accumulator row (docs/metrics.md)."""
+
+ACCUMULATORS = (
+    Accumulator("peak_accel_mps2", "max", "achieved acceleration a_k = (v_k - v_{k-1}) / dt (at least 0)"),
+    Accumulator("peak_decel_mps2", "max", "achieved deceleration -a_k (at least 0)"),
+    Accumulator("peak_jerk_mps3", "max", "|j_k|, jerk of the actuator output while moving"),
+    Accumulator("peak_lateral_accel_mps2", "max", "v_k^2 |kappa_k|, kappa the commanded path curvature"),
+    Accumulator("sum_accel_sq", "sum", "a_k^2 dt (m^2/s^3)"),
+    Accumulator("sum_jerk_sq", "sum", "j_k^2 dt (m^2/s^5)"),
+    Accumulator("elapsed_s", "sum", "dt: the active time"),
+    Accumulator("min_clearance_m", "min", "smallest clearance over the VRUs"),
+    Accumulator("min_clearance_time_s", "at", "time of min_clearance_m"),
+    Accumulator("min_ttc_s", "min", "smallest 2-D TTC over the VRUs"),
+    Accumulator("min_ttc_time_s", "at", "time of min_ttc_s"),
+    Accumulator("travel_time_s", "first", "the rear-axle station reaches the route length"),
+    Accumulator("contact_time_s", "first", "first contact (swept or clearance test)"),
+    Accumulator("impact_ego_speed_mps", "at", "ego speed at contact_time_s"),
+    Accumulator("impact_relative_speed_mps", "at", "|v_ego h - v_vru| at the end of the contact step"),
+    Accumulator("impact_relative_longitudinal_mps", "at", "(v_ego h - v_vru) . h at the end of the contact step"),
+    Accumulator("impact_local_x_m", "at", "impact point on the outline, vehicle frame x"),
+    Accumulator("impact_local_y_m", "at", "impact point on the outline, vehicle frame y"),
+    Accumulator("impact_vru", "at", "slot of the VRU hit (-1: none)"),
+    Accumulator("first_sensor_s", "first", "any VRU perceived by the sensor"),
+    Accumulator("first_v2x_s", "first", "any VRU's message received over V2X"),
+    Accumulator("end_time_s", "last", "time at the end of the step"),
+    Accumulator("final_speed_mps", "last", "ego speed"),
+    Accumulator("final_station_m", "last", "ego rear-axle station"),
+    Accumulator("prev_actuator", "carry", "actuator output (for the jerk)"),
+    Accumulator("prev_clearance", "carry", "smallest clearance (contact time interpolation)"),
+    Accumulator("prev_speed", "carry", "ego speed (impact speed interpolation)"),
+    Accumulator("prev_ttc_s", "carry", "smallest TTC (swept contact test, TTC at warning)"),
+    Accumulator("prev_ttc_vru", "carry", "slot of the VRU with the smallest TTC"),
+    Accumulator("first_warning_s", "first", "forward-collision warning issued by the planner"),
+    Accumulator("warning_ttc_s", "at", "TTC of the state the first warning was issued on"),
 )
+"""Accumulator rows, declared once: the metric catalogue (`vrusim.metrics.catalog`) refers to them by name."""
+FIELDS = tuple(row.name for row in ACCUMULATORS)
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
-(
-    PEAK_A,
-    PEAK_D,
-    PEAK_J,
-    PEAK_LAT,
-    SUM_A2,
-    SUM_J2,
-    ELAPSED,
-    MIN_CLR,
-    MIN_CLR_T,
-    MIN_TTC,
-    MIN_TTC_T,
-    TRAVEL,
-    CONTACT_T,
-    IMPACT_V,
-    IMPACT_REL,
-    IMPACT_REL_LONG,
-    IMPACT_X,
-    IMPACT_Y,
-    IMPACT_VRU,
-    FIRST_SENSOR,
-    FIRST_V2X,
-    END_T,
-    FINAL_V,
-    FINAL_S,
-    PREV_ACT,
-    PREV_CLR,
-    PREV_V,
-    PREV_TTC,
-    PREV_TTC_VRU,
-    FIRST_WARNING,
-    WARNING_TTC,
-) = range(len(FIELDS))
+# Row indices for the compiled kernels (module constants, so numba folds them in).
+PEAK_A = _I["peak_accel_mps2"]
+PEAK_D = _I["peak_decel_mps2"]
+PEAK_J = _I["peak_jerk_mps3"]
+PEAK_LAT = _I["peak_lateral_accel_mps2"]
+SUM_A2 = _I["sum_accel_sq"]
+SUM_J2 = _I["sum_jerk_sq"]
+ELAPSED = _I["elapsed_s"]
+MIN_CLR = _I["min_clearance_m"]
+MIN_CLR_T = _I["min_clearance_time_s"]
+MIN_TTC = _I["min_ttc_s"]
+MIN_TTC_T = _I["min_ttc_time_s"]
+TRAVEL = _I["travel_time_s"]
+CONTACT_T = _I["contact_time_s"]
+IMPACT_V = _I["impact_ego_speed_mps"]
+IMPACT_REL = _I["impact_relative_speed_mps"]
+IMPACT_REL_LONG = _I["impact_relative_longitudinal_mps"]
+IMPACT_X = _I["impact_local_x_m"]
+IMPACT_Y = _I["impact_local_y_m"]
+IMPACT_VRU = _I["impact_vru"]
+FIRST_SENSOR = _I["first_sensor_s"]
+FIRST_V2X = _I["first_v2x_s"]
+END_T = _I["end_time_s"]
+FINAL_V = _I["final_speed_mps"]
+FINAL_S = _I["final_station_m"]
+PREV_ACT = _I["prev_actuator"]
+PREV_CLR = _I["prev_clearance"]
+PREV_V = _I["prev_speed"]
+PREV_TTC = _I["prev_ttc_s"]
+PREV_TTC_VRU = _I["prev_ttc_vru"]
+FIRST_WARNING = _I["first_warning_s"]
+WARNING_TTC = _I["warning_ttc_s"]
 
 
 class RunMetrics:

@@ -11,6 +11,7 @@ from vrusim.ncap.assess import Assessment, assess
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, cell, facts, filter_box, join, table, tag
 from vrusim.report.page import Report, Section
+from vrusim.report.parts import metric_column
 from vrusim.viz.scorecard import (
     CAPTION,
     COLOUR_HEX,
@@ -32,8 +33,8 @@ TEST_COLUMNS = (
     Column("impact_speed_kph", "Impact (km/h)", 2),
     Column("relative_impact_speed_kph", "Relative impact (km/h)", 2),
     Column("speed_reduction_kph", "Reduction (km/h)", 2),
-    Column("warning_ttc_s", "Warning TTC (s)", 2),
-    Column("min_ttc_s", "Min TTC (s)", 2),
+    metric_column("warning_ttc_s", 2),
+    metric_column("min_ttc_s", 2),
     Column("criterion", "Criterion"),
     Column("colour", "Colour"),
     Column("sub_score", "Sub-score", 3),

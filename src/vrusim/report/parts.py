@@ -7,55 +7,39 @@ from typing import Any
 
 import yaml
 
+from vrusim.metrics.catalog import get_metric, metrics
 from vrusim.report.html import Column, Html, pre, table, tag
 from vrusim.scenario.schema import Scenario
 from vrusim.viz.sensitivity import unit_of
 
-SUMMARY_LABELS = {
-    "outcome": "Outcome",
-    "contact_time_s": "Contact time",
-    "impact_ego_speed_mps": "Impact ego speed",
-    "impact_relative_speed_mps": "Impact relative speed",
-    "impact_relative_longitudinal_speed_mps": "Impact relative longitudinal speed",
-    "impact_side": "Impact side",
-    "impact_lateral_fraction": "Impact lateral fraction",
-    "first_sensor_detection_s": "First sensor detection",
-    "first_v2x_message_s": "First V2X message",
-    "first_warning_s": "First warning",
-    "warning_ttc_s": "TTC at warning",
-    "min_ttc_s": "Min TTC",
-    "min_clearance_m": "Min clearance",
-    "peak_accel_mps2": "Peak acceleration",
-    "peak_decel_mps2": "Peak deceleration",
-    "peak_jerk_mps3": "Peak jerk",
-    "rms_accel_mps2": "RMS acceleration",
-    "rms_jerk_mps3": "RMS jerk",
-    "travel_time_s": "Travel time",
-    "trip_time_s": "Trip time (scored)",
-    "free_travel_time_s": "Free-flow travel time",
-    "safety": "Safety score",
-    "efficiency": "Efficiency score",
-    "comfort": "Comfort score",
-}
-"""Display names of summary fields (others are shown by their field name)."""
 DIGITS = 3
 """Decimals shown for numbers in the tables (the exact value is in each cell's data-value)."""
 
 
+def metric_column(name: str, digits: int | None = None) -> Column:
+    """A table column of a metric, headed by its catalogue label and unit ("Min TTC (s)")."""
+    metric = get_metric(name)
+    return Column(name, f"{metric.label} ({metric.unit})" if metric.unit else metric.label, digits)
+
+
 def scalar_fields(row: dict[str, Any]) -> list[str]:
-    """The fields of a summary row that hold one value (not lists or mappings), labelled ones first."""
+    """The fields of a summary row that hold one value (not lists or mappings): the metrics in catalogue order,
+    then the others (what ran) in row order."""
     scalars = [key for key, value in row.items() if not isinstance(value, dict | list)]
-    return [key for key in SUMMARY_LABELS if key in scalars] + [key for key in scalars if key not in SUMMARY_LABELS]
+    names = [m.name for m in metrics() if m.name in scalars]
+    return names + [key for key in scalars if key not in names]
 
 
 def summary_table(element_id: str, row: dict[str, Any]) -> Html:
-    """Every scalar field of a `vrusim run --json` row: one table row per field (data-row = field name)."""
+    """Every scalar field of a `vrusim run --json` row: one table row per field (data-row = field name), metrics
+    labelled by the catalogue (`vrusim.metrics.catalog`)."""
+    catalogue = {m.name: m for m in metrics()}
     rows = []
     classes = {}
     for key in scalar_fields(row):
-        value = row[key]
-        unit = unit_of(key) or ""
-        rows.append((key, {"quantity": SUMMARY_LABELS.get(key, key), "value": value, "unit": unit.split(",")[0]}))
+        metric = catalogue.get(key)
+        label, unit = (metric.label, metric.unit) if metric else (key, (unit_of(key) or "").split(",")[0])
+        rows.append((key, {"quantity": label, "value": row[key], "unit": unit}))
         if key == "outcome":
             classes[(key, "value")] = "bad" if row.get("collided") else "good"
     columns = [Column("value", "Value", DIGITS), Column("unit", "Unit")]

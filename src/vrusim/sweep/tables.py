@@ -12,13 +12,12 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-RESULT_TYPES: dict[str, pa.DataType] = {
-    "outcome": pa.string(),
-    "collided": pa.bool_(),
-    "impact_side": pa.string(),
-    "transitions": pa.int64(),
-}
-"""Result columns that are not floats (every other result column is float64)."""
+from vrusim.metrics.catalog import column_dtype
+
+
+def result_type(column: str) -> pa.DataType:
+    """Arrow type of a result column: its metric's declared dtype (`vrusim.metrics.catalog`)."""
+    return pa.type_for_alias(column_dtype(column))
 
 
 def design_type(values: np.ndarray) -> pa.DataType:
@@ -54,5 +53,5 @@ def chunk_table(rows: dict[str, Any], types: dict[str, pa.DataType], results: di
     """Design rows (lists or arrays) then result columns, typed; result floats with NaN become NULL."""
     arrays = {name: _array(values, types[name]) for name, values in rows.items()}
     for name, values in results.items():
-        arrays[name] = _array(values, RESULT_TYPES.get(name, pa.float64()))
+        arrays[name] = _array(values, result_type(name))
     return pa.table(arrays)
