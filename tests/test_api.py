@@ -77,6 +77,7 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
     assert report["import_changed_env"] is False
     assert report["resolve_changed_env"] is False  # the API's imports (numba's cache setting included) neither
     assert report["names"] == {
+        "Metric": "type",
         "NcapResults": "type",
         "Results": "type",
         "Scenario": "ModelMetaclass",
@@ -87,7 +88,11 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
         "load": "function",
         "open_sweep": "function",
         "run": "function",
+        "register_loss_model": "function",
+        "register_metric": "function",
         "run_sweep": "function",
+        "unregister_loss_model": "function",
+        "unregister_metric": "function",
     }
 
 

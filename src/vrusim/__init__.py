@@ -17,9 +17,12 @@ from vrusim.version import __version__
 if _typing.TYPE_CHECKING:
     from vrusim.api import NcapResults, Results, SweepFolder, euro_ncap, load, open_sweep, run, run_sweep
     from vrusim.errors import UserInputError
+    from vrusim.metrics.catalog import Metric, register_metric, unregister_metric
     from vrusim.scenario.schema import Scenario
+    from vrusim.sim.v2x.loss.registry import register_loss_model, unregister_loss_model
 
 __all__ = [
+    "Metric",
     "NcapResults",
     "Results",
     "Scenario",
@@ -29,11 +32,23 @@ __all__ = [
     "euro_ncap",
     "load",
     "open_sweep",
+    "register_loss_model",
+    "register_metric",
     "run",
     "run_sweep",
+    "unregister_loss_model",
+    "unregister_metric",
 ]
 
-_HOME = {"Scenario": "vrusim.scenario.schema", "UserInputError": "vrusim.errors"}
+_HOME = {
+    "Scenario": "vrusim.scenario.schema",
+    "UserInputError": "vrusim.errors",
+    "Metric": "vrusim.metrics.catalog",
+    "register_metric": "vrusim.metrics.catalog",
+    "unregister_metric": "vrusim.metrics.catalog",
+    "register_loss_model": "vrusim.sim.v2x.loss.registry",
+    "unregister_loss_model": "vrusim.sim.v2x.loss.registry",
+}
 """Where the public names that are not the API's own live (every other one: vrusim.api)."""
 
 
