@@ -78,7 +78,7 @@ def simulate(
         warning = planner_warning(planner)
         if warning is not None:
             work.record_warning(observation.t_s, active, warning)
-        running = stepper.advance(command)
+        running = stepper.advance(command).running
         if recorder is not None:
             recorder.add(stepper, planner, command)
         if running == 0:
