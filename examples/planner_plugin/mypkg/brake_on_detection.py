@@ -2,8 +2,10 @@
 
 import numpy as np
 
+from vrusim.planners.base import PlannerBase
 
-class BrakeOnDetection:
+
+class BrakeOnDetection(PlannerBase):  # optional base: declares mode_names, mode, warning with defaults
     mode_names = ("cruise", "braking")  # optional: lets vrusim record transitions
 
     def reset(self, params):

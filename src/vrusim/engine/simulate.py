@@ -17,7 +17,7 @@ import numpy as np
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.stepper import BatchStepper
 from vrusim.errors import UserInputError
-from vrusim.planners.base import Planner
+from vrusim.planners.base import Planner, planner_mode, planner_mode_names, planner_warning
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import compactable
@@ -63,22 +63,22 @@ def simulate(
     planner_name = batch.scenarios[0].planner.name if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(batch.scenarios)
     planner.reset(batch)
-    mode_names = tuple(getattr(planner, "mode_names", ("running",)))
+    mode_names = planner_mode_names(planner)
     stepper = BatchStepper(batch, len(mode_names), channel)
     recorder = TraceRecorder() if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
     for _ in range(batch.n_steps):
         observation = stepper.observe()
         work, active = stepper.work, stepper.active
-        old_mode = getattr(planner, "mode", None)
+        old_mode = planner_mode(planner)
         old_mode = None if old_mode is None else old_mode.copy()
         command = _checked_command(planner.act(observation), stepper.params.size, planner_name)
         if old_mode is not None:
-            work.record_modes(observation.t_s, active, old_mode, planner.mode)
-        warning = getattr(planner, "warning", None)
+            work.record_modes(observation.t_s, active, old_mode, planner_mode(planner))
+        warning = planner_warning(planner)
         if warning is not None:
             work.record_warning(observation.t_s, active, warning)
-        running = stepper.advance(command)
+        running = stepper.advance(command).running
         if recorder is not None:
             recorder.add(stepper, planner, command)
         if running == 0:
@@ -127,7 +127,8 @@ class TraceRecorder:
         self._put("ego_command_mps2", command)
         self._put("ego_curvature_per_m", ego.curvature_per_m)
         self._put("ego_station_m", ego.station_m)
-        self._put("planner_mode", getattr(planner, "mode", np.zeros(ego.x_m.shape, dtype=np.int8)))
+        mode = planner_mode(planner)
+        self._put("planner_mode", np.zeros(ego.x_m.shape, dtype=np.int8) if mode is None else mode)
         self._put("vru_x_m", vrus.x_m)
         self._put("vru_y_m", vrus.y_m)
         self._put("vru_speed_mps", vrus.speed_mps)

@@ -4,13 +4,15 @@
 agent's. From the state at time t: `observe()` does sensing (sector, occlusion → sensor model), V2X (RSU →
 channel) and fusion and returns the planner observation; `advance(command)` moves the VRUs (triggers judged on
 the ego state at t) and the egos to t + dt, checks contact, folds the step into the streamed metrics and
-applies the stop rules. `compact()` drops stopped variants from the working set; `finish()` writes the working
+applies the stop rules, and returns a `StepOutcome`: which variants stopped in this step and why (`StopReason`).
+`compact()` drops stopped variants from the working set; `finish()` writes the working
 set's metrics back into the whole batch's.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
@@ -28,6 +30,38 @@ from vrusim.sim.state import EgoState, initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import make_channel
 from vrusim.sim.v2x.messages import Channel, rsu_broadcast
 from vrusim.sim.vru.motion import advance_vrus
+
+
+class StopReason(IntEnum):
+    """Why a variant stopped (`StepOutcome.reason`); when several hold in one step, the first listed wins."""
+
+    RUNNING = 0
+    """Not stopped in this step."""
+    COLLISION = 1
+    """It collided and `sim.stop_on_collision` is set."""
+    ROUTE_END = 2
+    """It completed its route and `sim.stop_at_route_end` is set."""
+    TIME_UP = 3
+    """It reached its duration (`sim.duration_s`), or the batch its last step."""
+
+
+_COLLISION, _ROUTE_END, _TIME_UP = int(StopReason.COLLISION), int(StopReason.ROUTE_END), int(StopReason.TIME_UP)
+
+
+@dataclass(frozen=True)
+class StepOutcome:
+    """What the stop rules decided in one step, per working-set variant."""
+
+    reason: np.ndarray
+    """`StopReason` code per variant [B] (int8): why it stopped in this step, 0 (`RUNNING`) if it did not
+    (still running, or stopped before this step)."""
+    running: int
+    """How many variants of the working set still run."""
+
+    @property
+    def stopped(self) -> np.ndarray:
+        """Variants that stopped in this step [B] (bool)."""
+        return self.reason != StopReason.RUNNING
 
 
 @dataclass
@@ -123,9 +157,10 @@ class BatchStepper:
             t, dt, *scratch.ego_view, params.routes, scratch.route_offset, detected, source, estimate, scratch.radius
         )
 
-    def advance(self, command: np.ndarray) -> int:
+    def advance(self, command: np.ndarray) -> StepOutcome:
         """Move VRUs and egos to t + dt under `command`, check contact, record metrics, apply the stop rules;
-        return how many variants of the working set still run."""
+        return which variants stopped and why, and how many of the working set still run. After the batch's
+        last step (`n_steps`) every variant has stopped."""
         if self._front is None:
             raise RuntimeError("BatchStepper.advance: call observe() first in every step")
         params, ego, vrus, scratch = self.params, self.ego, self.vrus, self._scratch
@@ -150,15 +185,19 @@ class BatchStepper:
         clearance, outline_x, outline_y = scratch.contact
         work = self.work
         work.record_step(t_next, self.active, ego, moving_before, clearance, outline_x, outline_y, scratch.ttc, vrus)
-        return _update_active(
+        reason = np.empty(params.size, dtype=np.int8)
+        running = _update_active(
             t_next,
+            self.step_index >= self.batch.n_steps,
             self.active,
+            reason,
             params.stop_on_collision,
             work.collided,
             params.stop_at_route_end,
             work.travel_time_s,
             params.duration_s,
         )
+        return StepOutcome(reason, running)
 
     def compact(self) -> np.ndarray:
         """Drop the stopped variants from the working set (their results are final); return the kept rows of
@@ -183,15 +222,22 @@ class BatchStepper:
 
 @njit(cache=True, _nrt=False)
 def _update_active(
-    t_next, active, stop_on_collision, collided, stop_at_route_end, travel_time, duration
+    t_next, last_step, active, reason, stop_on_collision, collided, stop_at_route_end, travel_time, duration
 ):  # pragma: no cover (compiled)
     """Stop the variants that collided (if `stop_on_collision`), completed their route (if
-    `stop_at_route_end`) or reached their duration; return how many still run (serial: a reduction)."""
+    `stop_at_route_end`) or reached their duration (all of them after the `last_step`); write why into
+    `reason` (0 where none stopped now) and return how many still run (serial: a reduction)."""
     running = 0
     for b in range(active.shape[0]):
+        reason[b] = 0
         if active[b]:
-            stop = (stop_on_collision[b] and collided[b]) or (stop_at_route_end[b] and travel_time[b] >= 0.0)
-            active[b] = not stop and t_next < duration[b] - 1e-9
+            if stop_on_collision[b] and collided[b]:
+                reason[b] = _COLLISION
+            elif stop_at_route_end[b] and travel_time[b] >= 0.0:
+                reason[b] = _ROUTE_END
+            elif last_step or not t_next < duration[b] - 1e-9:
+                reason[b] = _TIME_UP
+            active[b] = reason[b] == 0
         running += 1 if active[b] else 0
     return running
 

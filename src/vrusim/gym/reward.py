@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vrusim.gym.stepper import StepOutcome
+from vrusim.gym.stepper import EpisodeStep
 from vrusim.metrics.scores import profile
 from vrusim.sim.params import BatchParams
 
@@ -51,7 +51,7 @@ class RewardModel:
             free = np.where(cruise > 0, params.route_length_m / np.maximum(cruise, 1e-9), params.duration_s)
         self.step_weight = params.dt_s / np.maximum(free, params.dt_s)
 
-    def step(self, outcome: StepOutcome, scores: np.ndarray | None) -> np.ndarray:
+    def step(self, outcome: EpisodeStep, scores: np.ndarray | None) -> np.ndarray:
         """Reward of every variant for the step [B] (0 for variants that had already stopped).
 
         `scores` [B]: mean of the episode's three scores where the episode ended in this step (else unused).

@@ -11,21 +11,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from vrusim.engine.simulate import BatchRun
-from vrusim.engine.stepper import BatchStepper
+from vrusim.engine.stepper import BatchStepper, StopReason
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
 
 @dataclass
-class StepOutcome:
+class EpisodeStep:
     """What one step did, per variant [B] (ground truth, for rewards and done flags)."""
 
     was_active: np.ndarray
     """Variant was running at the start of the step."""
+    reason: np.ndarray
+    """Why the variant stopped in this step (`vrusim.engine.stepper.StopReason` code; 0: it did not)."""
     terminated: np.ndarray
     """Stopped in this step by a collision (`stop_on_collision`) or at its route end (`stop_at_route_end`)."""
     truncated: np.ndarray
-    """Stopped in this step by its duration (and not terminated)."""
+    """Stopped in this step by its duration or the batch's last step."""
     collided: np.ndarray
     """First contact happened in this step."""
     progress_m: np.ndarray
@@ -58,25 +60,21 @@ class EpisodeStepper:
         """Sensing, V2X and fusion at the current time: the planner observation."""
         return self.stepper.observe()
 
-    def advance(self, command: np.ndarray) -> StepOutcome:
-        """VRU and ego motion under `command` (m/s^2 per variant), contact and metrics; stop rules applied."""
+    def advance(self, command: np.ndarray) -> EpisodeStep:
+        """VRU and ego motion under `command` (m/s^2 per variant), contact and metrics; the engine's stop rules
+        applied (`BatchStepper.advance`)."""
         stepper, params = self.stepper, self.params
         metrics, ego = stepper.metrics, stepper.ego
         was_active, collided_before = stepper.active.copy(), metrics.collided.copy()
         station_before, actuator_before = ego.station_m.copy(), ego.actuator_mps2.copy()
         moving_before = ego.speed_mps > 0.0
-        stepper.advance(command)
-        if stepper.step_index >= params.n_steps:  # the engine's loop ends here whatever the stop rules say
-            stepper.active[:] = False
-        stopped = (params.stop_on_collision & metrics.collided) | (
-            params.stop_at_route_end & (metrics.travel_time_s >= 0.0)
-        )
-        ended = was_active & ~stepper.active
+        reason = stepper.advance(command).reason
         ttc = stepper.ttc_s
-        return StepOutcome(
+        return EpisodeStep(
             was_active=was_active,
-            terminated=ended & stopped,
-            truncated=ended & ~stopped,
+            reason=reason,
+            terminated=(reason == StopReason.COLLISION) | (reason == StopReason.ROUTE_END),
+            truncated=reason == StopReason.TIME_UP,
             collided=metrics.collided & ~collided_before,
             progress_m=ego.station_m - station_before,
             accel_mps2=ego.accel_mps2.copy(),

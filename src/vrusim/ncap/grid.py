@@ -10,6 +10,7 @@ from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import BuiltTest, NcapTest, build_test
 from vrusim.ncap.protocol import KPH, SCENARIOS, NcapScenario
+from vrusim.planners.base import planner_warning
 from vrusim.planners.registry import make_planner
 
 
@@ -60,7 +61,7 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
         raise UserInputError("--scenario: the selection contains no tests")
     driver = make_planner(planner)
     run = simulate([b.scenario for b in built], planner=driver)
-    warns = getattr(driver, "warning", None) is not None  # a planner that warns exposes `warning` once reset
+    warns = planner_warning(driver) is not None  # a planner that warns exposes `warning` once reset
     rows = []
     for b, summary in zip(built, summary_rows(run), strict=True):
         test = b.test

@@ -22,6 +22,7 @@ import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
 from vrusim.kernels import batch_kernel, njit, prange
+from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import new_tracks, update_track
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.route_ttc import route_ttc
@@ -89,7 +90,7 @@ PARAM_ORDER = tuple(AebParams.model_fields)
 ) = range(len(PARAM_ORDER))
 
 
-class AebPlanner:
+class AebPlanner(PlannerBase):
     """Cruise / warning / partial brake / full brake on the smallest route TTC, per variant."""
 
     mode_names = ("cruise", "warning", "partial_brake", "full_brake")

@@ -27,6 +27,7 @@ import numpy as np
 from pydantic import Field
 
 from vrusim.kernels import batch_kernel, prange
+from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
 from vrusim.scenario.strict import StrictModel
@@ -62,7 +63,7 @@ def planner_params(params: BatchParams) -> list[FsmParams]:
     return validate_params(FsmParams, params)
 
 
-class FsmPlanner:
+class FsmPlanner(PlannerBase):
     """Cruise / Pre-Slow / Emergency-Brake / Follow, per variant (one compiled kernel per step)."""
 
     mode_names = ("cruise", "pre_slow", "emergency_brake", "follow")

@@ -27,6 +27,7 @@ import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
 from vrusim.kernels import batch_kernel, prange
+from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.planners.params import param_table, validate_params
 from vrusim.planners.prediction import CONSTANT_VELOCITY, PATH, occupancy_bounds, path_station_of, plan_start
@@ -98,7 +99,7 @@ NUMERIC = tuple(name for name in PredictiveParams.model_fields if name != "predi
 ) = range(len(NUMERIC))
 
 
-class PredictivePlanner:
+class PredictivePlanner(PlannerBase):
     """Cruise / yield / follow / stop / emergency brake from predicted corridor occupancy, per variant."""
 
     mode_names = ("cruise", "yield", "follow", "stop", "emergency_brake")

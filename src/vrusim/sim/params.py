@@ -14,6 +14,8 @@ from vrusim.geometry.paths import Line, PathSpec
 from vrusim.scenario.routes import ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
+from vrusim.sim.vru.point_mass import POINT_MASS
+from vrusim.sim.vru.registry import vru_motion
 
 TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
 _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
@@ -123,19 +125,22 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     brake_after = np.full((B, K), math.inf)
     numeric["rad"][:] = 0.1
     trigger_kind = np.zeros((B, K), dtype=np.int8)
+    pack_motion = vru_motion(POINT_MASS).pack
     path_specs: list = []
     path_index = np.zeros((B, K), dtype=np.int64)
     for b, scenario in enumerate(scenarios):
         for k, vru in enumerate(scenario.vrus):
             vru_valid[b, k] = True
             vru_type[b, k] = vru.type.value
-            numeric["top"][b, k] = vru.speed_mps
-            numeric["acc"][b, k] = vru.accel_mps2
             numeric["rad"][b, k] = vru.footprint_m
-            numeric["tau"][b, k] = vru.speed_time_constant_s
-            numeric["v0"][b, k] = vru.initial_speed_mps
-            if vru.brake is not None:
-                brake_after[b, k], numeric["bdecel"][b, k] = vru.brake.after_trigger_s, vru.brake.decel_mps2
+            (
+                numeric["top"][b, k],
+                numeric["acc"][b, k],
+                numeric["tau"][b, k],
+                numeric["v0"][b, k],
+                brake_after[b, k],
+                numeric["bdecel"][b, k],
+            ) = pack_motion(vru)
             trig = vru.trigger
             if trig.at_time_s is not None:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME, trig.at_time_s

@@ -4,8 +4,10 @@ A sensor model turns the geometric visibility of this step (`sensing.sense`) and
 the sensor's report: which VRUs it detects and their estimated kinematics. The ideal model (the paper's
 assumption) reports every visible VRU at once and exactly. The realistic model adds, per variant (scenario
 `sensor` fields): a detection latency of L whole steps, a frame period of F whole steps, an independent
-detection draw per frame and VRU, and Gaussian noise on the reported position and velocity. `make_sensor_model`
-picks the ideal model when every variant of the batch has ideal settings, so such runs stay bit-identical.
+detection draw per frame and VRU, and Gaussian noise on the reported position and velocity. Both are
+registered, in this order, in `vrusim.sim.sensing.registry`; `make_sensor_model` makes the first that applies:
+the ideal model when every variant of the batch has ideal settings, so such runs stay bit-identical, else the
+realistic one.
 
 Realistic report at step n (docs/models.md, "Sensor model"): frames are measured at steps m = 0, F, 2F, ...
 and reported L steps later, at n = m + L; between reports the last one is held. A frame detects VRU k when
@@ -17,7 +19,7 @@ step m without noise. Every draw is keyed by the variant's seed and the measurem
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Protocol
+from typing import ClassVar
 
 import numpy as np
 
@@ -26,23 +28,10 @@ from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
+from vrusim.sim.sensing.registry import SensorModel, register_sensor_model, sensor_model_entry
 
 NOISY_ROWS = 4
 """Kinematics rows with measurement noise: x, y (position sigma) and vx, vy (velocity sigma)."""
-
-
-class SensorModel(Protocol):
-    """Turns visibility into detections."""
-
-    def reset(self, params: BatchParams) -> None: ...
-
-    def observe(self, step: int, t_s: float, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(detected [B, K], estimated kinematics [6, B, K]) from this step's visibility and true kinematics."""
-        ...
-
-    def age_s(self, step: int, dt_s: float) -> np.ndarray | None:
-        """Age of each variant's current report [B], s (None: all 0)."""
-        ...
 
 
 class IdealSensor:
@@ -200,8 +189,16 @@ def _observe(
                 estimate[row, b, k] = held_estimate[row, b, k]
 
 
+def all_ideal(params: BatchParams) -> bool:
+    """Whether every variant's sensor is ideal (`is_ideal`)."""
+    return all(is_ideal(s) for s in params.scenarios)
+
+
+register_sensor_model("ideal", all_ideal, IdealSensor, before=None)
+register_sensor_model("realistic", lambda params: True, RealisticSensor, before=None)
+
+
 def make_sensor_model(params: BatchParams) -> SensorModel:
-    """The sensor model of a batch: ideal when every variant's sensor is (bit-identical to the paper's)."""
-    if all(is_ideal(s) for s in params.scenarios):
-        return IdealSensor()
-    return RealisticSensor()
+    """The sensor model of a batch: the first registered one that applies (ideal when every variant's sensor is:
+    bit-identical to the paper's; else realistic)."""
+    return sensor_model_entry(params).factory()
