@@ -1,25 +1,113 @@
-"""What a SOURCE argument names: one scenario YAML file, or Euro NCAP catalogue tests.
+"""What a user names: one scenario YAML file, a bundled example, Euro NCAP catalogue tests, or a sweep spec.
 
-A catalogue SOURCE is a test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus
-night with `night`) or `all`. An unknown name is a user error that suggests close ids.
+A scenario SOURCE is
+- a YAML file path;
+- a bundled scenario by name: `paper:<case>` (pedestrian, escooter, motorcyclist) or `example:<name>`;
+- a catalogue test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with
+  `night`) or `all`.
+A sweep SPEC is a YAML file or a bundled spec by name (`example:<name>`). `bundled()` lists every name; they
+resolve inside an installed wheel too (`vrusim.io.bundled`). An unknown name is a user error that suggests close
+names.
 """
 
 from __future__ import annotations
 
 import difflib
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
+from vrusim.scenario.schema import Scenario
 
 if TYPE_CHECKING:
     from vrusim.ncap.build import NcapTest
-    from vrusim.scenario.schema import Scenario
 
 YAML_SUFFIXES = (".yaml", ".yml")
+PAPER_PREFIX = "paper:"
+EXAMPLE_PREFIX = "example:"
+BUNDLED_PREFIXES = (PAPER_PREFIX, EXAMPLE_PREFIX)
+
+ScenarioSource = Scenario | str | Path
+"""A Scenario; a YAML path; a bundled name (`paper:pedestrian`, `example:...`); or a catalogue test id."""
 
 
-def is_scenario_file(source: str) -> bool:
+# ----------------------------------------------------------------------------------------------- bundled files
+
+
+@dataclass(frozen=True)
+class Bundled:
+    """A scenario or sweep spec shipped with vrusim, reachable by name."""
+
+    name: str
+    """`paper:<case>` or `example:<name>`."""
+    kind: str
+    """"scenario" or "sweep"."""
+    path: Path
+    description: str
+
+
+def _example_name(path: Path) -> str:
+    return EXAMPLE_PREFIX + path.stem.replace("_", "-")
+
+
+def _description(path: Path) -> str:
+    from vrusim.scenario.yaml_file import read_yaml_file
+
+    document = read_yaml_file(path, "bundled file")
+    return str(document.get("description", "")) if isinstance(document, dict) else ""
+
+
+def bundled_scenarios() -> list[Bundled]:
+    """The bundled scenarios: the paper's cases (`paper:<case>`), then the examples (`example:<name>`)."""
+    from vrusim.io.bundled import bundled_dir
+    from vrusim.paper.cases import CASES, scenario_dir
+
+    papers = [(PAPER_PREFIX + case.key, scenario_dir() / case.file_name) for case in CASES]
+    examples = [(_example_name(p), p) for p in sorted((bundled_dir("scenarios") / "examples").glob("*.yaml"))]
+    return [Bundled(name, "scenario", path, _description(path)) for name, path in papers + examples]
+
+
+def bundled_sweeps() -> list[Bundled]:
+    """The bundled sweep specs (`example:<name>`)."""
+    from vrusim.io.bundled import bundled_dir
+
+    specs = sorted(bundled_dir("sweeps").glob("*.yaml"))
+    return [Bundled(_example_name(path), "sweep", path, _description(path)) for path in specs]
+
+
+def bundled() -> list[Bundled]:
+    """Every bundled scenario and sweep spec."""
+    return bundled_scenarios() + bundled_sweeps()
+
+
+def is_bundled_name(source: str) -> bool:
+    """SOURCE has the form of a bundled name (`paper:...`, `example:...`)."""
+    return source.startswith(BUNDLED_PREFIXES)
+
+
+def _find(name: str, entries: list[Bundled], what: str, argument: str) -> Path:
+    for entry in entries:
+        if entry.name == name:
+            return entry.path
+    names = [entry.name for entry in entries]
+    close = difflib.get_close_matches(name, names, n=3, cutoff=0.5)
+    hint = f"did you mean {', '.join(close)}?" if close else f"expected one of {', '.join(names)}"
+    raise UserInputError(f"{argument}: no bundled {what} named {name!r}; {hint} (`vrusim examples` lists them)")
+
+
+def sweep_spec_path(source: str | Path, argument: str = "SPEC") -> Path:
+    """The sweep spec file SOURCE names: a path, or a bundled spec by name (`example:pedestrian-monte-carlo`)."""
+    text = str(source)
+    if is_bundled_name(text):
+        return _find(text, bundled_sweeps(), "sweep spec", argument)
+    return Path(source)
+
+
+# ----------------------------------------------------------------------------------------------- scenarios
+
+
+def isscenario_file(source: str) -> bool:
     """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
     path = Path(source)
     if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
@@ -45,31 +133,41 @@ def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
 
 
 def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> UserInputError:
-    """The error for a SOURCE that names nothing: what was expected, and the closest catalogue ids or codes."""
+    """The error for a SOURCE that names nothing: what was expected, and the closest names, catalogue ids or codes."""
     from vrusim.ncap.grid import select
 
     ids = [test.test_id for test in select(night=True)]
     codes = sorted({test_id.split("/")[0] for test_id in ids})
-    close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
+    names = [entry.name for entry in bundled_scenarios()]
+    close = difflib.get_close_matches(source, [*names, *codes, *ids], n=5, cutoff=0.5)
     hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
     return UserInputError(f"{argument}: {source!r} is not {expected}{hint}")
 
 
+def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
+    """The YAML file SOURCE names (a path, or a bundled name: unknown is a user error), or None for a catalogue
+    name."""
+    if is_bundled_name(source):
+        return _find(source, bundled_scenarios(), "scenario", argument)
+    return Path(source) if isscenario_file(source) else None
+
+
 def resolve_source(source: str, night: bool) -> list[Scenario]:
-    """The scenarios SOURCE names: one YAML file, or catalogue tests (FSM planner, V2X off)."""
+    """The scenarios SOURCE names: one YAML file or bundled scenario, or catalogue tests (FSM planner, V2X off)."""
     from vrusim.ncap.build import build_test
     from vrusim.scenario.loading import load_scenario
 
-    if is_scenario_file(source):
-        return [load_scenario(Path(source))]
+    file = scenario_file(source, "SOURCE")
+    if file is not None:
+        return [load_scenario(file)]
     tests = catalogue_tests(source, night)
     if not tests:
-        raise unknown_source(source, "a scenario file, a catalogue test id, code or prefix, or 'all'")
+        raise unknown_source(source, "a scenario file, a bundled name, a catalogue test id, code or prefix, or 'all'")
     return [build_test(test).scenario for test in tests]
 
 
 def single_test(
-    source: str, expected: str = "a scenario file or a catalogue test id", argument: str = "SOURCE"
+    source: str, expected: str = "a scenario file, a bundled name or a catalogue test id", argument: str = "SOURCE"
 ) -> NcapTest:
     """The one catalogue test SOURCE names (day or night); none, or a code that selects several, is a user error
     naming `argument`."""
@@ -85,11 +183,74 @@ def single_test(
 
 
 def single_source(source: str, catalogue_v2x: bool) -> Scenario:
-    """The one scenario SOURCE names: a YAML file, or one catalogue test id (FSM planner; with `catalogue_v2x`
-    the catalogue's roadside unit, switched on)."""
+    """The one scenario SOURCE names: a YAML file or bundled scenario (V2X as in it), or one catalogue test id (FSM
+    planner; with `catalogue_v2x` the catalogue's roadside unit, switched on)."""
     from vrusim.ncap.build import build_test
     from vrusim.scenario.loading import load_scenario
 
-    if is_scenario_file(source):
-        return load_scenario(Path(source))
+    file = scenario_file(source, "SOURCE")
+    if file is not None:
+        return load_scenario(file)
     return build_test(single_test(source), v2x=catalogue_v2x).scenario
+
+
+def scenario_of(
+    source: ScenarioSource, v2x: bool | None = None, argument: str = "SOURCE", option: str = "v2x"
+) -> Scenario:
+    """The one scenario `source` names, with V2X switched on or off when `v2x` is given (None: as it is; a catalogue
+    test: off). A Scenario is taken as it is; a catalogue test is built for the FSM planner, with its roadside unit
+    switched on by `v2x`. Errors name `argument` (the source) or `option` (the V2X switch)."""
+    if isinstance(source, Scenario):
+        return apply_v2x_switch(source, v2x, option)
+    if not isinstance(source, str | Path):
+        raise UserInputError(
+            f"{argument}: expected a Scenario, a YAML path, a bundled name or a catalogue test id, got {source!r}"
+        )
+    text = str(source)
+    if isinstance(source, Path) or is_bundled_name(text) or isscenario_file(text):
+        from vrusim.scenario.loading import load_scenario
+
+        file = Path(source) if isinstance(source, Path) else scenario_file(text, argument)
+        return apply_v2x_switch(load_scenario(file), v2x, option, str(file))
+    from vrusim.ncap.build import build_test
+
+    test = single_test(text, "a YAML file, a bundled name (`paper:<case>`, `example:<name>`) or a catalogue test id",
+                       argument)  # fmt: skip
+    return build_test(test, v2x=bool(v2x)).scenario
+
+
+# ----------------------------------------------------------------------------------------------- choices
+
+
+def apply_v2x_switch(
+    scenario: Scenario, enabled: bool | None, option: str = "v2x", source: str | None = None
+) -> Scenario:
+    """`scenario` with V2X switched on or off (None: unchanged), validated again. A scenario that cannot take it
+    (V2X on without a roadside unit) is a UserInputError that names `source` (default: the scenario's name), the
+    `option` and each offending field."""
+    if enabled is None:
+        return scenario
+    from pydantic import ValidationError
+
+    try:
+        return scenario.with_v2x(bool(enabled))
+    except ValidationError as error:
+        from vrusim.scenario.loading import describe_validation_error
+
+        where = f"{source or scenario.name} with {option} {'on' if enabled else 'off'}"
+        raise UserInputError(describe_validation_error(error, where)) from None
+
+
+def apply_planner_and_seed(scenario: Scenario, planner: str | None = None, seed: int | None = None) -> Scenario:
+    """`scenario` driven by `planner` (its parameters kept only when it is the scenario's own planner) and keyed by
+    `seed` (None: unchanged), validated again; a bad seed is a UserInputError naming `sim.seed`."""
+    if planner is None and seed is None:
+        return scenario
+    from vrusim.scenario.loading import scenario_from_mapping
+
+    data = scenario.model_dump()
+    if planner is not None and planner != scenario.planner.name:  # the file's parameters belong to its own planner
+        data["planner"] = {"name": planner, "params": {}}
+    if seed is not None:
+        data["sim"]["seed"] = seed
+    return scenario_from_mapping(data, scenario.name)
