@@ -1,0 +1,145 @@
+"""`vrusim run SOURCE`: simulate one scenario and print its summary (optionally its trace, figure, animation)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich import box
+from rich.markup import escape
+from rich.table import Table
+
+from vrusim.cli.cells import number, on_off
+from vrusim.cli.figures import check_run_outputs, write_run_outputs
+from vrusim.cli.options import (
+    JsonOption,
+    OneSource,
+    V2XSwitch,
+    one_planner,
+    planner_option,
+    seed_option,
+    switch_value,
+    v2x_switch_option,
+)
+from vrusim.cli.output import console, named_errors, print_json, user_errors
+
+
+def _summary_table(row: dict) -> Table:
+    """The summary of one run as two columns, quantity and value, in sections."""
+    title = f"{escape(row['scenario'])}  ·  V2X {on_off(row['v2x'])}  ·  planner {escape(row['planner'])}"
+    table = Table(title=title, show_header=False, box=box.SIMPLE_HEAD, title_justify="left")
+    table.add_column("quantity", style="bold")
+    table.add_column("value")
+    collided = row["collided"]
+    table.add_row("Outcome", "[bold red]COLLISION[/]" if collided else "[bold green]avoided[/]", end_section=True)
+
+    table.add_row("Contact time", number(row["contact_time_s"], "s"))
+    table.add_row("Impact ego speed", number(row["impact_ego_speed_mps"], "m/s"))
+    relative = number(row["impact_relative_speed_mps"], "m/s")
+    if row["impact_relative_longitudinal_speed_mps"] is not None:
+        relative += f" (longitudinal {number(row['impact_relative_longitudinal_speed_mps'], 'm/s')})"
+    table.add_row("Impact relative speed", relative)
+    side = "—"
+    if row["impact_side"] is not None:
+        side = f"{row['impact_side']}, lateral fraction {number(row['impact_lateral_fraction'])}"
+    table.add_row("Impact side", side, end_section=True)
+
+    table.add_row("First sensor detection", number(row["first_sensor_detection_s"], "s"))
+    table.add_row("First V2X message", number(row["first_v2x_message_s"], "s"))
+    transitions = [
+        f"{number(item['t_s'], 's')}  {escape(item['from'])} → {escape(item['to'])}" for item in row["transitions"]
+    ]
+    table.add_row("Planner transitions", "\n".join(transitions) if transitions else "none", end_section=True)
+
+    table.add_row("Min TTC", number(row["min_ttc_s"], "s"))
+    table.add_row("Min clearance", number(row["min_clearance_m"], "m"))
+    table.add_row(
+        "Peak accel / decel",
+        f"{number(row['peak_accel_mps2'])} / {number(row['peak_decel_mps2'])} m/s²",
+    )
+    table.add_row("Peak jerk", number(row["peak_jerk_mps3"], "m/s³"))
+    table.add_row("RMS accel", number(row["rms_accel_mps2"], "m/s²"))
+    table.add_row("RMS jerk", number(row["rms_jerk_mps3"], "m/s³"))
+    free = number(row["free_travel_time_s"], "s")
+    if row["travel_time_s"] is not None:
+        travel = f"{number(row['travel_time_s'], 's')} (free flow {free})"
+    else:
+        travel = f"route not completed (trip time counted as {number(row['trip_time_s'], 's')}, free flow {free})"
+    table.add_row("Travel time", travel, end_section=True)
+
+    table.add_row("Safety score", number(row["safety"]))
+    table.add_row("Efficiency score", number(row["efficiency"]))
+    table.add_row("Comfort score", number(row["comfort"]))
+    return table
+
+
+def run_command(
+    source: OneSource,
+    planner: Annotated[list[str] | None, planner_option("the scenario file's (fsm for a catalogue test)")] = None,
+    v2x: Annotated[
+        V2XSwitch | None,
+        v2x_switch_option("Force V2X on or off (default: as in the file; off for a catalogue test)."),
+    ] = None,
+    seed: Annotated[
+        int | None, seed_option("Key of the run's random numbers (sensor noise, V2X loss). Default: the file's.")
+    ] = None,
+    as_json: JsonOption = False,
+    trace: Annotated[
+        Path | None,
+        typer.Option(
+            "--trace",
+            metavar="OUT.csv|OUT.parquet",
+            help="Also write the per-step trace (format from the suffix: .csv or .parquet).",
+            show_default=False,
+        ),
+    ] = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            "--plot",
+            metavar="OUT.png|OUT.svg|OUT.pdf",
+            help="Also write one figure: snapshots at the key events above the time series (docs/figures.md).",
+            show_default=False,
+        ),
+    ] = None,
+    animate: Annotated[
+        Path | None,
+        typer.Option(
+            "--animate",
+            metavar="OUT.gif|OUT.mp4",
+            help="Also write an animation of the run, 25 frames per second of simulated time.",
+            show_default=False,
+        ),
+    ] = None,
+) -> None:
+    """Simulate one scenario (a YAML file, a bundled scenario or a catalogue test) and print its summary."""
+    with user_errors():
+        from vrusim.engine.simulate import simulate
+        from vrusim.engine.trace_file import check_trace_path, write_trace
+        from vrusim.metrics.summary import summary_rows
+        from vrusim.sources import apply_planner_and_seed, scenario_of
+
+        chosen = one_planner(planner, "run")
+        if trace is not None:
+            with named_errors("--trace"):
+                check_trace_path(trace)
+        check_run_outputs(plot, animate)
+        scenario = apply_planner_and_seed(scenario_of(source, switch_value(v2x), option="--v2x"), chosen, seed)
+        pictures = plot is not None or animate is not None
+        result = simulate([scenario], trace=trace is not None or pictures)
+        row = summary_rows(result)[0]
+        rows_written = None
+        if trace is not None:
+            with named_errors("--trace"):
+                rows_written = write_trace(result, trace)
+        written = write_run_outputs(result, plot, animate) if pictures else []
+    if as_json:
+        print_json(row)
+        return
+    terminal = console()
+    terminal.print(_summary_table(row))
+    if trace is not None:
+        terminal.print(f"Trace written to {escape(str(trace))} ({rows_written} steps).")
+    for line in written:
+        terminal.print(escape(line))
