@@ -24,6 +24,7 @@ from vrusim.cli.options import (
     v2x_switch_option,
 )
 from vrusim.cli.output import console, print_json, user_errors
+from vrusim.cli.report import check_report_option, write_report_option
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
@@ -141,10 +142,7 @@ def ncap_command(
         chosen = one_planner(planner, "ncap") or "fsm"
         if out is not None:
             _prepare_out(out, force)
-        if report is not None:
-            from vrusim.report import check_output
-
-            check_output(report, "--report")
+        check_report_option(report)
         tests = select(scenario or [], night=night)
         started = time.perf_counter()
         result = run_tests(tests, planner=chosen, v2x=v2x == V2XSwitch.on)
@@ -153,7 +151,6 @@ def ncap_command(
         rows = result_rows(result.rows, assessment)
         written = _write_outputs(out, rows, assessment) if out is not None else []
         if report is not None:
-            from vrusim.cli.report import write_report_option
             from vrusim.report.ncap import ncap_report
 
             write_report_option(report, lambda: ncap_report(rows, assessment), quiet=True)

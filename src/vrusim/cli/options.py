@@ -39,10 +39,14 @@ OneSource = Annotated[
 JsonOption = Annotated[
     bool, typer.Option("--json", help="Print the result as one JSON document on stdout and nothing else.")
 ]
-ReportOption = Annotated[
-    Path | None,
-    typer.Option("--report", metavar="OUT.html", help="Also write a self-contained HTML report.", show_default=False),
-]
+
+
+def file_option(name: str, metavar: str, help: str) -> Any:
+    """An option naming one file (or folder) to write, e.g. `--trace OUT.csv|OUT.parquet`."""
+    return typer.Option(name, metavar=metavar, help=help, show_default=False)
+
+
+ReportOption = Annotated[Path | None, file_option("--report", "OUT.html", "Also write a self-contained HTML report.")]
 ForceOption = Annotated[
     bool, typer.Option("--force", help="Write into an --out that is not empty, replacing files of the same name.")
 ]

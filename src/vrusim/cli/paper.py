@@ -5,16 +5,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import typer
 from rich import box
 from rich.markup import escape
 from rich.table import Table
 
 from vrusim.cli.cells import mark, number, on_off
 from vrusim.cli.figures import check_figures_dir, write_paper_figures
-from vrusim.cli.options import JsonOption, ReportOption
+from vrusim.cli.options import JsonOption, ReportOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
-from vrusim.cli.report import write_report_option
+from vrusim.cli.report import check_report_option, write_report_option
 
 SCORES = ("safety", "efficiency", "comfort")
 
@@ -93,11 +92,10 @@ def paper_command(
     report: ReportOption = None,
     figures: Annotated[
         Path | None,
-        typer.Option(
+        file_option(
             "--figures",
-            metavar="DIR",
-            help="Also write per case a snapshot figure (rows V2X off / on) and a time-series figure as PNGs.",
-            show_default=False,
+            "DIR",
+            "Also write per case a snapshot figure (rows V2X off / on) and a time-series figure as PNGs.",
         ),
     ] = None,
 ) -> None:
@@ -105,10 +103,7 @@ def paper_command(
     with user_errors():
         from vrusim.paper.cases import match_counts, reproduce
 
-        if report is not None:
-            from vrusim.report import check_output
-
-            check_output(report, "--report")
+        check_report_option(report)
         if figures is not None:
             check_figures_dir(figures)
         result = reproduce()

@@ -68,6 +68,14 @@ def report_command(
     console().print(f"Wrote {escape(str(out))} ({report.kind} report, {size / 1024:.0f} KiB).")
 
 
+def check_report_option(report_path: Path | None) -> None:
+    """`--report OUT.html` of other commands: refuse a bad path before anything runs."""
+    if report_path is not None:
+        from vrusim.report import check_output
+
+        check_output(report_path, "--report")
+
+
 def write_report_option(report_path: Path | None, build: Callable[[], Report], quiet: bool = False) -> None:
     """`--report OUT.html` of other commands: write the report `build()` returns (atomically); say so on stdout
     unless `quiet` (the command prints JSON)."""

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import typer
 from rich import box
 from rich.markup import escape
 from rich.table import Table
@@ -16,6 +15,7 @@ from vrusim.cli.options import (
     JsonOption,
     OneSource,
     V2XSwitch,
+    file_option,
     one_planner,
     planner_option,
     seed_option,
@@ -87,29 +87,22 @@ def run_command(
     as_json: JsonOption = False,
     trace: Annotated[
         Path | None,
-        typer.Option(
-            "--trace",
-            metavar="OUT.csv|OUT.parquet",
-            help="Also write the per-step trace (format from the suffix: .csv or .parquet).",
-            show_default=False,
+        file_option(
+            "--trace", "OUT.csv|OUT.parquet", "Also write the per-step trace (format by suffix: .csv or .parquet)."
         ),
     ] = None,
     plot: Annotated[
         Path | None,
-        typer.Option(
+        file_option(
             "--plot",
-            metavar="OUT.png|OUT.svg|OUT.pdf",
-            help="Also write one figure: snapshots at the key events above the time series (docs/figures.md).",
-            show_default=False,
+            "OUT.png|OUT.svg|OUT.pdf",
+            "Also write one figure: snapshots at the key events above the time series (docs/figures.md).",
         ),
     ] = None,
     animate: Annotated[
         Path | None,
-        typer.Option(
-            "--animate",
-            metavar="OUT.gif|OUT.mp4",
-            help="Also write an animation of the run, 25 frames per second of simulated time.",
-            show_default=False,
+        file_option(
+            "--animate", "OUT.gif|OUT.mp4", "Also write an animation of the run, 25 frames per simulated second."
         ),
     ] = None,
 ) -> None:
