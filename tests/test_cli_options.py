@@ -398,3 +398,19 @@ def test_fit_wraps_prose_and_keeps_codes_whole():
     fitted = render(fit_table(table(), Console(width=30)))
     assert all(f"CBNAO-5{index}" in fitted for index in range(3)) and "…" not in fitted
     assert max(len(line) for line in fitted.splitlines()) <= 30
+
+
+def test_the_v2x_switch_names_the_option_of_its_caller(tmp_path):
+    """`apply_v2x_switch` serves the command line (`--v2x`) and Python callers (`v2x`) alike."""
+    from vrusim.errors import UserInputError
+    from vrusim.sources import scenario_of
+
+    data = yaml.safe_load(PEDESTRIAN.read_text())
+    del data["v2x"]
+    path = tmp_path / "no_rsu.yaml"
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(UserInputError, match=r"no_rsu\.yaml with v2x on: invalid scenario"):
+        scenario_of(path, v2x=True)
+    with pytest.raises(UserInputError, match=r"no_rsu\.yaml with --v2x on"):
+        scenario_of(str(path), v2x=True, option="--v2x")
+    assert scenario_of(str(path), v2x=False).v2x.enabled is False

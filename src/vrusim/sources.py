@@ -107,7 +107,7 @@ def sweep_spec_path(source: str | Path, argument: str = "SPEC") -> Path:
 # ----------------------------------------------------------------------------------------------- scenarios
 
 
-def isscenario_file(source: str) -> bool:
+def is_scenario_file(source: str) -> bool:
     """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
     path = Path(source)
     if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
@@ -149,7 +149,7 @@ def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
     name."""
     if is_bundled_name(source):
         return _find(source, bundled_scenarios(), "scenario", argument)
-    return Path(source) if isscenario_file(source) else None
+    return Path(source) if is_scenario_file(source) else None
 
 
 def resolve_source(source: str, night: bool) -> list[Scenario]:
@@ -207,16 +207,15 @@ def scenario_of(
             f"{argument}: expected a Scenario, a YAML path, a bundled name or a catalogue test id, got {source!r}"
         )
     text = str(source)
-    if isinstance(source, Path) or is_bundled_name(text) or isscenario_file(text):
+    if isinstance(source, Path) or is_bundled_name(text) or is_scenario_file(text):
         from vrusim.scenario.loading import load_scenario
 
         file = Path(source) if isinstance(source, Path) else scenario_file(text, argument)
         return apply_v2x_switch(load_scenario(file), v2x, option, str(file))
     from vrusim.ncap.build import build_test
 
-    test = single_test(text, "a YAML file, a bundled name (`paper:<case>`, `example:<name>`) or a catalogue test id",
-                       argument)  # fmt: skip
-    return build_test(test, v2x=bool(v2x)).scenario
+    expected = "a YAML file, a bundled name (`paper:<case>`, `example:<name>`) or a catalogue test id"
+    return build_test(single_test(text, expected, argument), v2x=bool(v2x)).scenario
 
 
 # ----------------------------------------------------------------------------------------------- choices

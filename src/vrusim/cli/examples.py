@@ -9,8 +9,8 @@ from rich.table import Table
 from vrusim.cli.options import JsonOption
 from vrusim.cli.output import console, print_json, user_errors
 
-USE = {"scenario": "vrusim run {name}", "sweep": "vrusim sweep {name} --dry-run"}
-"""How each kind is used, shown next to it."""
+COMMANDS = {"scenario": "vrusim run {name}", "sweep": "vrusim sweep {name} --dry-run"}
+"""A command that uses a bundled entry, by its kind (in the JSON listing)."""
 
 
 def examples_command(as_json: JsonOption = False) -> None:
@@ -20,17 +20,17 @@ def examples_command(as_json: JsonOption = False) -> None:
 
         entries = bundled()
     if as_json:
-        print_json(
-            [
-                {"name": e.name, "kind": e.kind, "description": e.description, "path": str(e.path), "try": _use(e)}
-                for e in entries
-            ]
-        )
+        listing = [
+            {"name": e.name, "kind": e.kind, "description": e.description, "path": str(e.path)}
+            | {"command": COMMANDS[e.kind].format(name=e.name)}
+            for e in entries
+        ]
+        print_json(listing)
         return
     table = Table(title="Bundled examples", box=box.SIMPLE_HEAD, title_justify="left")
     table.add_column("Name", no_wrap=True)
     table.add_column("Kind")
-    table.add_column("Description", ratio=1)
+    table.add_column("Description")
     for entry in entries:
         table.add_row(escape(entry.name), entry.kind, escape(entry.description))
     terminal = console()
@@ -39,7 +39,3 @@ def examples_command(as_json: JsonOption = False) -> None:
         "Run a scenario by name (`vrusim run paper:pedestrian`), or give it to compare, report and export; "
         "run a sweep spec by name (`vrusim sweep example:pedestrian-monte-carlo --out DIR`)."
     )
-
-
-def _use(entry) -> str:
-    return USE[entry.kind].format(name=entry.name)

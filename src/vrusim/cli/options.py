@@ -48,7 +48,10 @@ def file_option(name: str, metavar: str, help: str) -> Any:
 
 ReportOption = Annotated[Path | None, file_option("--report", "OUT.html", "Also write a self-contained HTML report.")]
 ForceOption = Annotated[
-    bool, typer.Option("--force", help="Write into an --out that is not empty, replacing files of the same name.")
+    bool,
+    typer.Option(
+        "--force", help="Write into a non-empty --out: replace files of the same name (sweep: the previous sweep)."
+    ),
 ]
 
 

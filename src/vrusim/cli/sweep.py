@@ -19,7 +19,7 @@ from rich.progress import (
 )
 from rich.text import Text
 
-from vrusim.cli.options import JsonOption, seed_option
+from vrusim.cli.options import ForceOption, JsonOption, seed_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 
@@ -56,9 +56,7 @@ def sweep_command(
             help="Results folder: new or empty, the one to --resume, or a previous sweep's to replace with --force.",
         ),
     ] = Path("sweep-results"),
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace the previous sweep's results in --out (deleted once planned).")
-    ] = False,
+    force: ForceOption = False,
     seed: Annotated[int | None, seed_option("Master seed of the draws. Default: the spec's.")] = None,
     workers: Annotated[int, typer.Option("--workers", help="Local worker processes (default: all cores).")] = 0,
     scheduler: Annotated[
