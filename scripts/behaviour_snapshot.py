@@ -3,7 +3,7 @@
     python scripts/behaviour_snapshot.py record DIR      # paper, Euro NCAP (3 planners x V2X off/on), 20k sweep
     python scripts/behaviour_snapshot.py compare OLD NEW  # exit 1 and a list of differences unless identical
 
-What is recorded, through the `vrusim` command of the active environment:
+What is recorded, through the `vrusim` command of the running Python (`python -m vrusim`):
 - `vrusim paper --json`;
 - `vrusim ncap --night --json` for the FSM, AEB and predictive planners, V2X off and on;
 - a 20,000-variant Monte Carlo (the bundled pedestrian spec with `samples: 20000`), its Parquet rows sorted by
@@ -33,7 +33,7 @@ IGNORED_KEYS = {"version", "source_digest", "code", "elapsed_s", "wall_s", "seco
 
 
 def _vrusim(*args: str) -> str:
-    done = subprocess.run(["vrusim", *args], capture_output=True, text=True, check=False)
+    done = subprocess.run([sys.executable, "-m", "vrusim", *args], capture_output=True, text=True, check=False)
     if done.returncode != 0:
         sys.exit(f"vrusim {' '.join(args)} failed ({done.returncode}):\n{done.stderr}")
     return done.stdout

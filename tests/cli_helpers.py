@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typer.testing import CliRunner
 
-from vrusim.cli.main import app
+from vrusim.cli.app import app
 
 runner = CliRunner()
 

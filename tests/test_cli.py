@@ -15,7 +15,7 @@ import pytest
 import yaml
 
 from cli_helpers import assert_user_error, invoke
-from vrusim.cli.main import main
+from vrusim.cli.app import main
 from vrusim.errors import UserInputError
 from vrusim.version import __version__
 
@@ -332,7 +332,7 @@ def test_version():
 
 
 def test_main_maps_user_errors_to_exit_2(monkeypatch, capsys):
-    import vrusim.cli.main as cli
+    import vrusim.cli.app as cli
 
     def raising(*args, **kwargs):
         raise UserInputError("somewhere.field: bad")

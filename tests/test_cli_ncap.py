@@ -75,7 +75,7 @@ def test_ncap_out_that_is_a_file_is_a_user_error(tmp_path):
 
 def test_out_targets_are_checked_before_the_run_and_written_all_or_none(tmp_path):
     (tmp_path / "scorecard.png").mkdir()
-    result = invoke("ncap", "--scenario", "CPTAns", "--out", tmp_path)
+    result = invoke("ncap", "--scenario", "CPTAns", "--out", tmp_path, "--force")  # not empty: --force
     assert_user_error(result, "--out", "scorecard.png")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scorecard.png"]  # nothing else written
 

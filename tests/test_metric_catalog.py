@@ -291,13 +291,10 @@ def test_display_rows_reproduce_the_terminal_table():
 
 def test_display_rows_equal_the_cli_table(run):
     """Same labels, texts and section rules as the table `vrusim run` prints, for real rows."""
-    from vrusim.cli import main as cli
+    from vrusim.cli.run import _summary_table
 
-    summary_table_of = getattr(cli, "_summary_table", None)
-    if summary_table_of is None:
-        pytest.skip("the CLI's terminal table moved (it is expected to print display_rows)")
     for row in summary_rows(run):
-        table = summary_table_of(row)
+        table = _summary_table(row)
         labels, texts = (column._cells for column in table.columns)
         assert [line.label for line in display_rows(row)] == labels == CLI_LABELS
         assert [line.text for line in display_rows(row)] == texts

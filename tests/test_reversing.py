@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from vrusim.cli.main import app
+from vrusim.cli.app import app
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario

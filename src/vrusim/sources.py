@@ -1,97 +1,120 @@
-"""What a SOURCE argument names: a scenario YAML file, a bundled scenario, or Euro NCAP catalogue tests.
+"""What a user names: one scenario YAML file, a bundled example, Euro NCAP catalogue tests, or a sweep spec.
 
-A bundled scenario is named `paper:<case>` (the paper's case studies: pedestrian, escooter, motorcyclist) or
-`example:<name>` (the files under scenarios/examples, `_` written `-`: `example:right-turn-cyclist`); bundled
-sweep specs are named `example:<name>` too (sweeps/*.yaml). A catalogue SOURCE is a test id
-(`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with `night`) or `all`.
-An unknown name is a user error that lists the bundled names or suggests close catalogue ids.
+A scenario SOURCE is
+- a YAML file path;
+- a bundled scenario by name: `paper:<case>` (pedestrian, escooter, motorcyclist) or `example:<name>`;
+- a catalogue test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with
+  `night`) or `all`.
+A sweep SPEC is a YAML file or a bundled spec by name (`example:<name>`). `bundled()` lists every name; they
+resolve inside an installed wheel too (`vrusim.io.bundled`). An unknown name is a user error that suggests close
+names.
 """
 
 from __future__ import annotations
 
 import difflib
-from collections.abc import Callable
-from importlib import resources
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
+from vrusim.scenario.schema import Scenario
 
 if TYPE_CHECKING:
     from vrusim.ncap.build import NcapTest
-    from vrusim.scenario.schema import Scenario
 
 YAML_SUFFIXES = (".yaml", ".yml")
 PAPER_PREFIX = "paper:"
 EXAMPLE_PREFIX = "example:"
 BUNDLED_PREFIXES = (PAPER_PREFIX, EXAMPLE_PREFIX)
 
-
-def _example_files(folder: Path) -> dict[str, Path]:
-    """`example:<stem with - for _>` → file, for the YAML files of `folder` (none when it is missing)."""
-    if not folder.is_dir():
-        return {}
-    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in YAML_SUFFIXES)
-    return {EXAMPLE_PREFIX + p.stem.replace("_", "-"): p for p in files}
+ScenarioSource = Scenario | str | Path
+"""A Scenario; a YAML path; a bundled name (`paper:pedestrian`, `example:...`); or a catalogue test id."""
 
 
-def bundled_scenarios() -> dict[str, Path]:
-    """Every bundled scenario file by name: the paper's cases (`paper:pedestrian`, ...), then the examples."""
+# ----------------------------------------------------------------------------------------------- bundled files
+
+
+@dataclass(frozen=True)
+class Bundled:
+    """A scenario or sweep spec shipped with vrusim, reachable by name."""
+
+    name: str
+    """`paper:<case>` or `example:<name>`."""
+    kind: str
+    """"scenario" or "sweep"."""
+    path: Path
+    description: str
+
+
+def _example_name(path: Path) -> str:
+    return EXAMPLE_PREFIX + path.stem.replace("_", "-")
+
+
+def _description(path: Path) -> str:
+    from vrusim.scenario.yaml_file import read_yaml_file
+
+    document = read_yaml_file(path, "bundled file")
+    return str(document.get("description", "")) if isinstance(document, dict) else ""
+
+
+def bundled_scenarios() -> list[Bundled]:
+    """The bundled scenarios: the paper's cases (`paper:<case>`), then the examples (`example:<name>`)."""
+    from vrusim.io.bundled import bundled_dir
     from vrusim.paper.cases import CASES, scenario_dir
 
-    paper = scenario_dir()
-    names = {PAPER_PREFIX + case.key: paper / case.file_name for case in CASES}
-    return names | _example_files(paper.parent / "examples")
+    papers = [(PAPER_PREFIX + case.key, scenario_dir() / case.file_name) for case in CASES]
+    examples = [(_example_name(p), p) for p in sorted((bundled_dir("scenarios") / "examples").glob("*.yaml"))]
+    return [Bundled(name, "scenario", path, _description(path)) for name, path in papers + examples]
 
 
-def bundled_sweep_specs() -> dict[str, Path]:
-    """Every bundled sweep spec file by name (`example:pedestrian-monte-carlo`): the installed package's
-    `_sweeps` folder, else the source checkout's `sweeps`."""
-    packaged = resources.files("vrusim") / "_sweeps"
-    if packaged.is_dir():
-        return _example_files(Path(str(packaged)))
-    return _example_files(Path(__file__).resolve().parents[2] / "sweeps")
+def bundled_sweeps() -> list[Bundled]:
+    """The bundled sweep specs (`example:<name>`)."""
+    from vrusim.io.bundled import bundled_dir
+
+    specs = sorted(bundled_dir("sweeps").glob("*.yaml"))
+    return [Bundled(_example_name(path), "sweep", path, _description(path)) for path in specs]
 
 
-def bundled_file(
-    source: str, bundled: Callable[[], dict[str, Path]], what: str, argument: str = "SOURCE"
-) -> Path | None:
-    """The file a bundled name stands for (`bundled()` lists them); None when `source` is not written as one (no
-    `paper:` or `example:` prefix); an unknown name with such a prefix is a user error listing the names."""
-    if not source.startswith(BUNDLED_PREFIXES):
-        return None
-    names = bundled()
-    if source in names:
-        return names[source]
-    close = difflib.get_close_matches(source, list(names), n=1)
-    hint = f" (did you mean {close[0]}?)" if close else ""
-    raise UserInputError(f"{argument}: unknown bundled {what} {source!r}{hint}; expected one of: {', '.join(names)}")
+def bundled() -> list[Bundled]:
+    """Every bundled scenario and sweep spec."""
+    return bundled_scenarios() + bundled_sweeps()
 
 
-def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
-    """The scenario file SOURCE names: a bundled scenario, or a path (a YAML suffix, or anything that exists);
-    None when it names no file. A folder is a user error."""
-    bundled = bundled_file(source, bundled_scenarios, "scenario", argument)
-    if bundled is not None:
-        return bundled
-    path = Path(source)
-    if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
-        return None
-    if path.is_dir():
-        raise UserInputError(f"{argument}: {source} is a folder, expected a scenario YAML file or a catalogue id")
-    return path
+def is_bundled_name(source: str) -> bool:
+    """SOURCE has the form of a bundled name (`paper:...`, `example:...`)."""
+    return source.startswith(BUNDLED_PREFIXES)
+
+
+def _find(name: str, entries: list[Bundled], what: str, argument: str) -> Path:
+    for entry in entries:
+        if entry.name == name:
+            return entry.path
+    names = [entry.name for entry in entries]
+    close = difflib.get_close_matches(name, names, n=3, cutoff=0.5)
+    hint = f"did you mean {', '.join(close)}?" if close else f"expected one of {', '.join(names)}"
+    raise UserInputError(f"{argument}: no bundled {what} named {name!r}; {hint} (`vrusim examples` lists them)")
+
+
+def sweep_spec_path(source: str | Path, argument: str = "SPEC") -> Path:
+    """The sweep spec file SOURCE names: a path, or a bundled spec by name (`example:pedestrian-monte-carlo`)."""
+    text = str(source)
+    if is_bundled_name(text):
+        return _find(text, bundled_sweeps(), "sweep spec", argument)
+    return Path(source)
+
+
+# ----------------------------------------------------------------------------------------------- scenarios
 
 
 def is_scenario_file(source: str) -> bool:
-    """SOURCE names a scenario file (a bundled scenario, a YAML suffix, or anything that exists); a folder is a
-    user error."""
-    return scenario_file(source) is not None
-
-
-def sweep_spec_file(source: str | Path, argument: str = "SPEC") -> Path:
-    """The sweep spec file SOURCE names: a bundled spec (`example:pedestrian-monte-carlo`) or a path."""
-    bundled = bundled_file(str(source), bundled_sweep_specs, "sweep spec", argument)
-    return Path(source) if bundled is None else bundled
+    """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
+    path = Path(source)
+    if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
+        return False
+    if path.is_dir():
+        raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")
+    return True
 
 
 def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
@@ -110,14 +133,23 @@ def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
 
 
 def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> UserInputError:
-    """The error for a SOURCE that names nothing: what was expected, and the closest catalogue ids or codes."""
+    """The error for a SOURCE that names nothing: what was expected, and the closest names, catalogue ids or codes."""
     from vrusim.ncap.grid import select
 
     ids = [test.test_id for test in select(night=True)]
     codes = sorted({test_id.split("/")[0] for test_id in ids})
-    close = difflib.get_close_matches(source, [*codes, *ids], n=5, cutoff=0.5)
+    names = [entry.name for entry in bundled_scenarios()]
+    close = difflib.get_close_matches(source, [*names, *codes, *ids], n=5, cutoff=0.5)
     hint = f"; did you mean {', '.join(close)}?" if close else f"; catalogue codes: {', '.join(codes)}"
     return UserInputError(f"{argument}: {source!r} is not {expected}{hint}")
+
+
+def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
+    """The YAML file SOURCE names (a path, or a bundled name: unknown is a user error), or None for a catalogue
+    name."""
+    if is_bundled_name(source):
+        return _find(source, bundled_scenarios(), "scenario", argument)
+    return Path(source) if is_scenario_file(source) else None
 
 
 def resolve_source(source: str, night: bool) -> list[Scenario]:
@@ -125,22 +157,18 @@ def resolve_source(source: str, night: bool) -> list[Scenario]:
     from vrusim.ncap.build import build_test
     from vrusim.scenario.loading import load_scenario
 
-    file = scenario_file(source)
+    file = scenario_file(source, "SOURCE")
     if file is not None:
         return [load_scenario(file)]
     tests = catalogue_tests(source, night)
     if not tests:
-        raise unknown_source(
-            source, "a scenario file, a bundled scenario, a catalogue test id, code or prefix, or 'all'"
-        )
+        raise unknown_source(source, "a scenario file, a bundled name, a catalogue test id, code or prefix, or 'all'")
     return [build_test(test).scenario for test in tests]
 
 
-ONE_SCENARIO = "a scenario file, a bundled scenario (paper:<case>, example:<name>) or a catalogue test id"
-"""What a SOURCE that names one scenario may be (for error messages)."""
-
-
-def single_test(source: str, expected: str = ONE_SCENARIO, argument: str = "SOURCE") -> NcapTest:
+def single_test(
+    source: str, expected: str = "a scenario file, a bundled name or a catalogue test id", argument: str = "SOURCE"
+) -> NcapTest:
     """The one catalogue test SOURCE names (day or night); none, or a code that selects several, is a user error
     naming `argument`."""
     tests = catalogue_tests(source, night=True)
@@ -154,34 +182,62 @@ def single_test(source: str, expected: str = ONE_SCENARIO, argument: str = "SOUR
     return tests[0]
 
 
-def single_source(source: str, catalogue_v2x: bool, argument: str = "SOURCE") -> Scenario:
-    """The one scenario SOURCE names: a YAML file, a bundled scenario, or one catalogue test id (FSM planner; with
-    `catalogue_v2x` the catalogue's roadside unit, switched on). A bad SOURCE is a user error naming `argument`."""
+def single_source(source: str, catalogue_v2x: bool) -> Scenario:
+    """The one scenario SOURCE names: a YAML file or bundled scenario (V2X as in it), or one catalogue test id (FSM
+    planner; with `catalogue_v2x` the catalogue's roadside unit, switched on)."""
     from vrusim.ncap.build import build_test
     from vrusim.scenario.loading import load_scenario
 
-    file = scenario_file(source, argument)
+    file = scenario_file(source, "SOURCE")
     if file is not None:
         return load_scenario(file)
-    return build_test(single_test(source, argument=argument), v2x=catalogue_v2x).scenario
+    return build_test(single_test(source), v2x=catalogue_v2x).scenario
 
 
-ScenarioSource = Union["Scenario", str, Path]
-"""What `load_source` takes: a Scenario; a YAML path; a bundled name (`paper:pedestrian`); a catalogue test id."""
-
-
-def load_source(source: Scenario | str | Path, argument: str = "scenario") -> Scenario:
-    """The Scenario `source` names: a Scenario (as it is), a YAML file (a `Path` is always read as one), a bundled
-    scenario or one catalogue test id (FSM planner, V2X off, its roadside unit placed). A bad source is a user
-    error naming `argument`."""
-    from vrusim.scenario.loading import load_scenario
-    from vrusim.scenario.schema import Scenario
-
+def scenario_of(
+    source: ScenarioSource, v2x: bool | None = None, argument: str = "SOURCE", option: str = "v2x"
+) -> Scenario:
+    """The one scenario `source` names, with V2X switched on or off when `v2x` is given (None: as it is; a catalogue
+    test: off). A Scenario is taken as it is; a catalogue test is built for the FSM planner, with its roadside unit
+    switched on by `v2x`. Errors name `argument` (the source) or `option` (the V2X switch)."""
     if isinstance(source, Scenario):
-        return source
-    if isinstance(source, Path):
-        return load_scenario(source)
-    if not isinstance(source, str):
-        expected = "a Scenario, a YAML path, a bundled name or a catalogue test id"
-        raise UserInputError(f"{argument}: expected {expected}, got {source!r}")
-    return single_source(source, catalogue_v2x=False, argument=argument)
+        return apply_v2x_switch(source, v2x, option)
+    if not isinstance(source, str | Path):
+        raise UserInputError(
+            f"{argument}: expected a Scenario, a YAML path, a bundled name or a catalogue test id, got {source!r}"
+        )
+    text = str(source)
+    if isinstance(source, Path) or is_bundled_name(text) or is_scenario_file(text):
+        from vrusim.scenario.loading import load_scenario
+
+        file = Path(source) if isinstance(source, Path) else scenario_file(text, argument)
+        return apply_v2x_switch(load_scenario(file), v2x, option, str(file))
+    from vrusim.ncap.build import build_test
+
+    expected = "a YAML file, a bundled name (`paper:<case>`, `example:<name>`) or a catalogue test id"
+    return build_test(single_test(text, expected, argument), v2x=bool(v2x)).scenario
+
+
+# ----------------------------------------------------------------------------------------------- choices
+
+
+def apply_v2x_switch(
+    scenario: Scenario, enabled: bool | None, option: str = "v2x", source: str | None = None
+) -> Scenario:
+    """`scenario` with V2X switched on or off (None: unchanged), validated again. A scenario that cannot take it
+    (V2X on without a roadside unit) is a UserInputError that names `source` (default: the scenario's name), the
+    `option` and each offending field."""
+    if enabled is None:
+        return scenario
+    from vrusim.scenario.field_paths import replaced
+
+    where = f"{source or scenario.name} with {option} {'on' if enabled else 'off'}"
+    return replaced(scenario, {"v2x.enabled": bool(enabled)}, where)
+
+
+def apply_planner_and_seed(scenario: Scenario, planner: str | None = None, seed: int | None = None) -> Scenario:
+    """`scenario` driven by `planner` (its parameters kept only when it is the scenario's own planner) and keyed by
+    `seed` (None: unchanged), validated again (`vrusim.scenario.settings.with_settings`)."""
+    from vrusim.scenario.settings import with_settings
+
+    return with_settings(scenario, planner=planner, seed=seed)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 from vrusim.api.settings import check_planner, renamed, v2x_switch
 from vrusim.api.tables import arrow_table, html_table, pandas_frame
 from vrusim.errors import UserInputError
-from vrusim.ncap.assess import SCHEMA, Assessment, GroupScore, assess
+from vrusim.ncap.assess import SCHEMA, Assessment, GroupScore, assess, result_rows
 from vrusim.ncap.grid import CatalogueRun, run_tests, select
 
 if TYPE_CHECKING:
@@ -18,12 +18,6 @@ if TYPE_CHECKING:
 
 GROUP_COLUMNS = ("group", "score", "max_points", "in_euro_ncap_total")
 """The columns a notebook shows of the group scores."""
-
-
-def result_rows(run_rows: list[dict], assessment: Assessment) -> list[dict]:
-    """One row per test: the simulation's row joined with its assessment (colour, points, speeds in km/h)."""
-    assessed = {test.test_id: asdict(test) for test in assessment.tests}
-    return [row | assessed[row["test_id"]] for row in run_rows]
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.schema import Scenario
 from vrusim.scenario.settings import V2XSetting, with_settings
-from vrusim.sources import ScenarioSource, load_source
+from vrusim.sources import ScenarioSource, scenario_of
 
 if TYPE_CHECKING:
     import pandas
@@ -44,7 +44,7 @@ def load(source: ScenarioSource) -> Scenario:
     `CPNCO-50/30kph/day` (built for the `fsm` planner with V2X off, its roadside unit placed, so
     `run(..., v2x="on")` works). A Scenario is returned as it is. Bad input raises UserInputError.
     """
-    return load_source(source, "source")
+    return scenario_of(source, argument="source")
 
 
 @dataclass(frozen=True)
@@ -154,7 +154,9 @@ def run(
     if planner is not None:
         check_planner(planner)
     prepared = [
-        with_settings(load_source(source, "scenarios" if single else f"scenarios[{index}]"), planner, v2x, seed)
+        with_settings(
+            scenario_of(source, argument="scenarios" if single else f"scenarios[{index}]"), planner, v2x, seed
+        )
         for index, source in enumerate(sources)
     ]
     record = single if trace is None else bool(trace)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 from vrusim.api.settings import renamed
 from vrusim.api.tables import pandas_frame
 from vrusim.errors import UserInputError
-from vrusim.sources import BUNDLED_PREFIXES, scenario_file, sweep_spec_file
+from vrusim.sources import is_bundled_name, scenario_file, sweep_spec_path
 from vrusim.sweep.runner import SweepResult
 from vrusim.sweep.spec import SweepSpec, load_spec, spec_from_mapping
 from vrusim.sweep.store import SweepStore
@@ -87,11 +87,11 @@ def _spec(spec: SweepSpec | str | Path | Mapping[str, Any]) -> SweepSpec:
     if isinstance(spec, Mapping):
         data = dict(spec)
         base = data.get("base")
-        if isinstance(base, str) and base.startswith(BUNDLED_PREFIXES):
+        if isinstance(base, str) and is_bundled_name(base):
             data["base"] = str(scenario_file(base, "spec: base"))
         return spec_from_mapping(data, "spec", Path.cwd())
     if isinstance(spec, str | Path):
-        return load_spec(sweep_spec_file(spec, "spec"))
+        return load_spec(sweep_spec_path(spec, "spec"))
     raise UserInputError(f"spec: expected a sweep spec file, a bundled spec name or a mapping, got {spec!r}")
 
 

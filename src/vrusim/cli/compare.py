@@ -1,4 +1,4 @@
-"""`vrusim compare`: planners × V2X settings on one scenario (a YAML file or a catalogue test), side by side."""
+"""`vrusim compare`: planners × V2X settings on one scenario (a YAML file, bundled scenario or catalogue test)."""
 
 from __future__ import annotations
 
@@ -7,71 +7,94 @@ from typing import Annotated
 
 import typer
 from rich import box
+from rich.markup import escape
 from rich.table import Table
 
-from vrusim.cli.options import OneSource, console, print_json, user_errors
+from vrusim.cli.cells import number
+from vrusim.cli.options import JsonOption, OneSource, planner_names, planner_option, seed_option, split_names
+from vrusim.cli.output import console, print_json, user_errors, warn
+
+KEYS = ("Planner", "V2X")
 
 
-def _names(option: str, value: str) -> list[str]:
-    names = [name.strip() for name in value.split(",") if name.strip()]
-    if not names:
-        from vrusim.errors import UserInputError
+def _planners(planner: list[str] | None, planners: str | None) -> list[str]:
+    """--planner, plus the deprecated --planners (a comma list); fsm when neither is given."""
+    names = planner_names(planner)
+    if planners is not None:
+        warn("--planners is deprecated; use --planner (repeatable, or a comma list)")
+        names = list(dict.fromkeys([*names, *planner_names([planners], "--planners")]))
+    return names or ["fsm"]
 
-        raise UserInputError(f"{option}: expected a comma-separated list of names")
-    return list(dict.fromkeys(names))
+
+def _outcome_table(rows: list[dict], title: str) -> Table:
+    table = Table(title=title, box=box.SIMPLE_HEAD, title_justify="left")
+    for name in (*KEYS, "Collisions", "P 95 %", "Impact\nm/s", "min TTC\ns", "Sensor\ns", "V2X\ns"):
+        table.add_column(name, justify="left" if name in KEYS else "right")
+    for row in rows:
+        low, high = row["collision_probability_95"]
+        style = "red" if row["collisions"] else "green"
+        table.add_row(
+            escape(row["planner"]),
+            escape(row["v2x"]),
+            f"[{style}]{row['collisions']}/{row['runs']}[/]",
+            f"{low:.2f}–{high:.2f}",
+            number(row["mean_impact_speed_mps"]),
+            number(row["min_ttc_s"]),
+            number(row["mean_first_sensor_detection_s"]),
+            number(row["mean_first_v2x_message_s"]),
+        )
+    return table
 
 
-def _num(value: float | None, digits: int = 2) -> str:
-    return "–" if value is None else f"{value:.{digits}f}"
+def _score_table(rows: list[dict]) -> Table:
+    table = Table(title="Mean scores", box=box.SIMPLE_HEAD, title_justify="left")
+    for name in (*KEYS, "Safety", "Efficiency", "Comfort"):
+        table.add_column(name, justify="left" if name in KEYS else "right")
+    for row in rows:
+        table.add_row(
+            escape(row["planner"]), escape(row["v2x"]), *(number(row[k]) for k in ("safety", "efficiency", "comfort"))
+        )
+    return table
 
 
 def compare_command(
     source: OneSource,
-    planners: Annotated[str, typer.Option("--planners", help="Comma-separated planners.")] = "fsm",
+    planner: Annotated[list[str] | None, planner_option("fsm", several=True)] = None,
+    planners: Annotated[str | None, typer.Option("--planners", hidden=True, help="Deprecated: --planner.")] = None,
     v2x: Annotated[
-        str, typer.Option("--v2x", help="Comma-separated V2X settings: 'off' or a channel profile name.")
+        str,
+        typer.Option(
+            "--v2x",
+            metavar="SETTING[,SETTING...]",
+            help="V2X settings, a comma list: off, on (the scenario's own channel) or a channel profile name.",
+        ),
     ] = "off,ideal",
     profiles: Annotated[
         Path | None, typer.Option("--profiles", metavar="FILE.yaml", help="Extra named channel profiles.")
     ] = None,
     seeds: Annotated[int, typer.Option("--seeds", help="Seeded variants per combination (random channels).")] = 1,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the rows as one JSON document.")] = False,
+    seed: Annotated[
+        int, seed_option("First seed: each combination uses seeds N, N + 1, … (--seeds of them). Default: 0.")
+    ] = 0,
+    as_json: JsonOption = False,
 ) -> None:
     """Run every planner with every V2X setting on one scenario and compare outcomes and scores."""
     with user_errors():
         from vrusim.sources import single_source
         from vrusim.studies.compare import compare
 
+        names = _planners(planner, planners)
+        settings = split_names([v2x], "--v2x")
         base = single_source(source, catalogue_v2x=True)  # a catalogue test brings its roadside unit
         channels = _user_channels(profiles) if profiles is not None else None
-        rows = compare(base, _names("--planners", planners), _names("--v2x", v2x), seeds, channels)
+        rows = compare(base, names, settings, seeds, channels, first_seed=seed)
     if as_json:
         print_json(rows)
         return
-    table = Table(title=f"{base.name}: planners × V2X ({seeds} seed{'s' if seeds > 1 else ''} each)",
-                  box=box.SIMPLE_HEAD)  # fmt: skip
-    for name in ("Planner", "V2X", "Collision", "P 95 %", "Impact m/s", "min TTC s", "Sensor s", "V2X s"):
-        table.add_column(name, justify="left" if name in ("Planner", "V2X") else "right")
-    for name in ("Safety", "Efficiency", "Comfort"):
-        table.add_column(name, justify="right")
-    for row in rows:
-        low, high = row["collision_probability_95"]
-        outcome = f"{row['collisions']}/{row['runs']}"
-        style = "red" if row["collisions"] else "green"
-        table.add_row(
-            row["planner"],
-            row["v2x"],
-            f"[{style}]{outcome}[/]",
-            f"{low:.2f}–{high:.2f}",
-            _num(row["mean_impact_speed_mps"]),
-            _num(row["min_ttc_s"]),
-            _num(row["mean_first_sensor_detection_s"]),
-            _num(row["mean_first_v2x_message_s"]),
-            _num(row["safety"]),
-            _num(row["efficiency"]),
-            _num(row["comfort"]),
-        )
-    console().print(table)
+    terminal = console()
+    runs = f"{seeds} seed{'s' if seeds > 1 else ''} each"
+    terminal.print(_outcome_table(rows, f"{escape(base.name)}: planners × V2X ({runs})"))
+    terminal.print(_score_table(rows))
 
 
 def _user_channels(path: Path) -> dict[str, dict]:
@@ -79,8 +102,3 @@ def _user_channels(path: Path) -> dict[str, dict]:
     from vrusim.scenario.v2x import load_profiles
 
     return {name: spec.model_dump() for name, spec in load_profiles(path).items()}
-
-
-def register(app: typer.Typer) -> None:
-    """Add `compare` to the `vrusim` app."""
-    app.command("compare")(compare_command)

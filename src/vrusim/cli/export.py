@@ -1,7 +1,8 @@
 """`vrusim export SOURCE --format openscenario|commonroad --out DIR`: scenarios as files for other tools.
 
-SOURCE is a scenario YAML file, a catalogue test id (`CPNA-25/20kph/day`), a catalogue code or prefix
-(`CPNA-25`, `CPNA`: its day tests, plus night with --night) or `all` (the whole catalogue).
+SOURCE is a scenario YAML file, a bundled scenario (`paper:pedestrian`), a catalogue test id
+(`CPNA-25/20kph/day`), a catalogue code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with --night) or
+`all` (the whole catalogue).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.markup import escape
 
-from vrusim.cli.options import console, user_errors
+from vrusim.cli.options import ForceOption, JsonOption, check_out_dir, make_out_dir, out_dir_option
+from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 from vrusim.sources import resolve_source
 
@@ -31,41 +33,30 @@ class ExportFormat(StrEnum):
     commonroad = "commonroad"
 
 
-def _check_out(out: Path) -> None:
-    if out.exists() and not out.is_dir():
-        raise UserInputError(f"--out: {out} is a file, expected a folder")
-
-
-def _make_dir(out: Path) -> None:
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise UserInputError(f"--out: cannot create {out} ({error.strerror or error})") from None
-
-
 def _export_all(scenarios: list[Scenario], fmt: ExportFormat, out: Path) -> list[Path]:
-    """Write every scenario into `out` (created if missing). All documents are built before the first file is
-    written, so bad input writes nothing (CommonRoad: the runs are simulated in one batch per planner)."""
+    """Write every scenario into the folder `out`. All documents are built before the first file is written, so
+    bad input writes nothing (CommonRoad: the runs are simulated in one batch per planner)."""
     if fmt is ExportFormat.commonroad:
         from vrusim.interop.commonroad import export_commonroad_all
 
-        _make_dir(out)
+        make_out_dir(out)
         return export_commonroad_all(scenarios, out)
     from vrusim.interop.openscenario import build_export
 
     exports = [build_export(scenario) for scenario in scenarios]
     if len({e.stem for e in exports}) != len(exports):
         raise UserInputError("SOURCE: two scenarios would be written to the same file name")
-    _make_dir(out)
+    make_out_dir(out)
     return [path for e in exports for path in e.write(out)]
 
 
-def export(
+def export_command(
     source: Annotated[
         str,
         typer.Argument(
             metavar="SOURCE",
-            help="Scenario YAML file, catalogue test id (CPNA-25/20kph/day), code or prefix (CPNA), or 'all'.",
+            help="Scenario YAML file, bundled scenario (paper:pedestrian), catalogue test id (CPNA-25/20kph/day), "
+            "code or prefix (CPNA), or 'all'.",
             show_default=False,
         ),
     ],
@@ -73,23 +64,23 @@ def export(
         ExportFormat,
         typer.Option("--format", case_sensitive=False, help="openscenario: .xosc + .xodr; commonroad: simulated run."),
     ],
-    out: Annotated[Path, typer.Option("--out", metavar="DIR", help="Folder to write into (created if missing).")],
+    out: Annotated[Path, out_dir_option("the exported files")],
+    force: ForceOption = False,
     night: Annotated[
         bool, typer.Option("--night", help="With a catalogue code or 'all': also the night tests.")
     ] = False,
+    as_json: JsonOption = False,
 ) -> None:
     """Export scenarios for other tools: OpenSCENARIO XML with its OpenDRIVE road, or CommonRoad."""
     with user_errors():
-        _check_out(out)
+        check_out_dir(out, force)
         scenarios = resolve_source(source, night)
         written = _export_all(scenarios, fmt, out)
+    if as_json:
+        print_json({"format": fmt.value, "scenarios": len(scenarios), "files": [str(path) for path in written]})
+        return
     screen = console()
     if len(written) <= LISTED_FILES:
         for path in written:
             screen.print(escape(str(path)))
     screen.print(f"Exported {len(scenarios)} scenario(s) as {fmt.value}: {len(written)} files in {escape(str(out))}.")
-
-
-def register(app: typer.Typer) -> None:
-    """Add `vrusim export` to the app."""
-    app.command("export")(export)

@@ -8,17 +8,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from vrusim.cli.output import named_errors
 from vrusim.errors import UserInputError
 
 PAPER_FIGURE_DPI = 110.0
 """Resolution of the `paper --figures` PNGs, dots per inch."""
-
-
-def _named(option: str, check, path: Path) -> Path:
-    try:
-        return check(path)
-    except UserInputError as error:
-        raise UserInputError(f"{option}: {error}") from None
 
 
 def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
@@ -27,9 +21,11 @@ def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
     from vrusim.viz.figure_io import check_figure_path
 
     if plot is not None:
-        _named("--plot", check_figure_path, plot)
+        with named_errors("--plot"):
+            check_figure_path(plot)
     if animate is not None:
-        _named("--animate", check_animation_path, animate)
+        with named_errors("--animate"):
+            check_animation_path(animate)
 
 
 def write_run_outputs(run, plot: Path | None, animate: Path | None) -> list[str]:
@@ -41,12 +37,14 @@ def write_run_outputs(run, plot: Path | None, animate: Path | None) -> list[str]
     if plot is not None:
         from vrusim.viz.runplot import write_run_figure
 
-        _named("--plot", lambda p: write_run_figure(recordings, p), plot)
+        with named_errors("--plot"):
+            write_run_figure(recordings, plot)
         written.append(f"Figure written to {plot}.")
     if animate is not None:
         from vrusim.viz.animate import write_animation
 
-        _named("--animate", lambda p: write_animation(recordings[0], p), animate)
+        with named_errors("--animate"):
+            write_animation(recordings[0], animate)
         written.append(f"Animation written to {animate}.")
     return written
 

@@ -10,11 +10,22 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.markup import escape
 
-from vrusim.cli.options import V2XSwitch, console, user_errors
+from vrusim.cli.options import (
+    JsonOption,
+    V2XSwitch,
+    one_planner,
+    planner_option,
+    seed_option,
+    switch_value,
+    v2x_switch_option,
+)
+from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
     from vrusim.report import Report
+
+RUN_ONLY = "Scenario or catalogue test only: "
 
 
 def report_command(
@@ -22,31 +33,47 @@ def report_command(
         str,
         typer.Argument(
             metavar="SOURCE",
-            help="A scenario .yaml file (run here), the word 'paper', a `vrusim ncap --out` folder, or a sweep "
-            "results folder (with manifest.json).",
+            help="A scenario .yaml file, a bundled scenario or a catalogue test id (run here), the word 'paper', a "
+            "`vrusim ncap --out` folder, or a sweep results folder (with manifest.json).",
             show_default=False,
         ),
     ],
-    out: Annotated[Path, typer.Option("--out", metavar="REPORT.html", help="The HTML file to write.")],
-    v2x: Annotated[
-        V2XSwitch | None,
-        typer.Option("--v2x", case_sensitive=False, help="Scenario file only: force V2X on or off."),
+    out: Annotated[
+        Path, typer.Option("--out", metavar="REPORT.html", help="The HTML file to write (replaced if it exists).")
+    ],
+    planner: Annotated[
+        list[str] | None, planner_option("the scenario file's (fsm for a catalogue test); scenarios only")
     ] = None,
+    v2x: Annotated[V2XSwitch | None, v2x_switch_option(RUN_ONLY + "force V2X on or off.")] = None,
+    seed: Annotated[int | None, seed_option(RUN_ONLY + "key of the run's random numbers.")] = None,
     bins: Annotated[
         int, typer.Option("--bins", help="Sweep only: numeric parameters with more values are cut into this many bins.")
     ] = 10,
+    as_json: JsonOption = False,
 ) -> None:
     """Write one self-contained HTML report (tables, figures, interactive charts, parameters, code version)."""
     with user_errors():
         from vrusim.report import build_report, check_output, source_kind, write_report
 
+        chosen = one_planner(planner, "report")
         source_kind(source)
         check_output(out)
         if bins < 1:
             raise UserInputError(f"--bins: expected a whole number ≥ 1, got {bins}")
-        report = build_report(source, None if v2x is None else v2x is V2XSwitch.on, bins)
+        report = build_report(source, switch_value(v2x), bins, chosen, seed)
         size = write_report(report, out)
+    if as_json:
+        print_json({"out": str(out), "kind": report.kind, "bytes": size})
+        return
     console().print(f"Wrote {escape(str(out))} ({report.kind} report, {size / 1024:.0f} KiB).")
+
+
+def check_report_option(report_path: Path | None) -> None:
+    """`--report OUT.html` of other commands: refuse a bad path before anything runs."""
+    if report_path is not None:
+        from vrusim.report import check_output
+
+        check_output(report_path, "--report")
 
 
 def write_report_option(report_path: Path | None, build: Callable[[], Report], quiet: bool = False) -> None:
@@ -59,8 +86,3 @@ def write_report_option(report_path: Path | None, build: Callable[[], Report], q
     size = write_report(build(), report_path, "--report")
     if not quiet:
         console().print(f"Wrote {escape(str(report_path))} ({size / 1024:.0f} KiB).")
-
-
-def register(app: typer.Typer) -> None:
-    """Add `vrusim report` to the app."""
-    app.command("report")(report_command)

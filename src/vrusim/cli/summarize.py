@@ -10,7 +10,8 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
-from vrusim.cli.options import console, print_json, user_errors
+from vrusim.cli.options import JsonOption, split_names
+from vrusim.cli.output import console, print_json, user_errors
 
 _STAT_TITLES = {"count": "n", "mean": "mean", "std": "std", "min": "min", "p5": "p5", "median": "median",
                 "p95": "p95", "max": "max"}  # fmt: skip
@@ -38,7 +39,7 @@ def outcome_table(summary: dict[str, Any]) -> Table:
     """Runs, collisions, P(collision) and its Wilson 95 % interval: one row per group (or overall)."""
     table = Table(title="Collisions (Wilson 95 % interval)", box=box.SIMPLE_HEAD, title_justify="left")
     for described in summary["by"]:
-        table.add_column(_by_header(described), no_wrap=True)
+        table.add_column(_by_header(described))
     for name in ("Runs", "Collisions", "P(collision)", "95 % interval"):
         table.add_column(name, justify="right", no_wrap=True)
     rows = summary["groups"] if summary["by"] else [summary["overall"]]
@@ -73,7 +74,7 @@ def metric_tables(summary: dict[str, Any]) -> list[Table]:
     for metric in summary["metrics"]:
         table = Table(title=escape(metric), box=box.SIMPLE_HEAD, title_justify="left")
         for described in summary["by"]:
-            table.add_column(_by_header(described), no_wrap=True)
+            table.add_column(_by_header(described))
         for title in _STAT_TITLES.values():
             table.add_column(title, justify="right")
         for group in summary["groups"]:
@@ -124,7 +125,7 @@ def summarize_command(
             "--metrics", help="Comma-separated metrics (default: min_ttc_s, impact_ego_speed_mps and the scores)."
         ),
     ] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the summary as one JSON document.")] = False,
+    as_json: JsonOption = False,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", metavar="OUT.png|OUT.svg|OUT.pdf", help="Write a sensitivity figure (needs --x)."),
@@ -138,7 +139,7 @@ def summarize_command(
     """Collision probability (Wilson 95 %) and metric statistics of a sweep, overall or per parameter group."""
     with user_errors():
         from vrusim.errors import UserInputError
-        from vrusim.sweep.summarize import open_results, split_names, summarize
+        from vrusim.sweep.summarize import open_results, summarize
         from vrusim.viz.sensitivity import check_plot_path
 
         if plot is None:
@@ -149,9 +150,9 @@ def summarize_command(
             check_plot_path(plot)
             if x is None:
                 raise UserInputError("--plot: needs --x PARAMETER (and --y PARAMETER for a heat map)")
-        chosen = split_names("--metrics", metrics) if metrics is not None else None
+        chosen = split_names(metrics, "--metrics") if metrics is not None else None
         opened = open_results(results)
-        summary = summarize(opened, by=split_names("--by", by), bins=bins, metrics=chosen)
+        summary = summarize(opened, by=split_names(by, "--by"), bins=bins, metrics=chosen)
         if plot is not None:
             _plot(opened, plot, x, y, metric, bins)
     if as_json:
@@ -166,8 +167,3 @@ def summarize_command(
         out.print(table)
     if plot is not None:
         out.print(f"Plot written to {escape(str(plot))}.")
-
-
-def register(app: typer.Typer) -> None:
-    """Add `summarize` to the `vrusim` app."""
-    app.command("summarize")(summarize_command)

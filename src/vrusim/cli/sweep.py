@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.console import Console
@@ -19,7 +19,12 @@ from rich.progress import (
 )
 from rich.text import Text
 
-from vrusim.cli.options import console, print_json, user_errors
+from vrusim.cli.options import ForceOption, JsonOption, seed_option
+from vrusim.cli.output import console, print_json, user_errors
+from vrusim.errors import UserInputError
+
+if TYPE_CHECKING:
+    from vrusim.sweep.spec import SweepSpec
 
 INTERRUPTED_EXIT_CODE = 130
 """Exit code after Ctrl-C (128 + SIGINT), as a shell reports it."""
@@ -35,12 +40,24 @@ class RateColumn(ProgressColumn):
 
 def sweep_command(
     spec_file: Annotated[
-        Path | None,
-        typer.Argument(metavar="[SPEC.yaml]", help="Sweep spec (not needed with --resume).", show_default=False),
+        str | None,
+        typer.Argument(
+            metavar="[SPEC.yaml|NAME]",
+            help="Sweep spec file, or a bundled one (`vrusim examples`, e.g. example:pedestrian-monte-carlo); "
+            "not needed with --resume.",
+            show_default=False,
+        ),
     ] = None,
-    out: Annotated[Path, typer.Option("--out", help="Results folder (new, or the one to --resume).")] = Path(
-        "sweep-results"
-    ),
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            metavar="DIR",
+            help="Results folder: new or empty, the one to --resume, or a previous sweep's to replace with --force.",
+        ),
+    ] = Path("sweep-results"),
+    force: ForceOption = False,
+    seed: Annotated[int | None, seed_option("Master seed of the draws. Default: the spec's.")] = None,
     workers: Annotated[int, typer.Option("--workers", help="Local worker processes (default: all cores).")] = 0,
     scheduler: Annotated[
         str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT", help="Run on this Dask cluster.")
@@ -55,28 +72,28 @@ def sweep_command(
     dry_run: Annotated[
         bool, typer.Option("--dry-run", help="Plan, draw and check the variants; run and write nothing.")
     ] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the outcome as one JSON document.")] = False,
+    as_json: JsonOption = False,
 ) -> None:
     """Run every variant of a sweep spec; results go to OUT/chunks/*.parquet, batch by batch (resumable)."""
     from vrusim.sweep.execute import SweepAbortedError, cpu_count
     from vrusim.sweep.runner import dry_run as plan_only
     from vrusim.sweep.runner import run_sweep
-    from vrusim.sweep.spec import load_spec
 
     show = not quiet and not as_json
     with user_errors():
-        spec = load_spec(spec_file) if spec_file is not None else None
+        _check_modes(force, resume, dry_run, seed)
+        spec = _spec(spec_file, seed)
         if workers < 0:
-            from vrusim.errors import UserInputError
-
             raise UserInputError("--workers: expected a positive number of worker processes (0: all cores)")
         if dry_run:
             if spec is None:
-                from vrusim.errors import UserInputError
-
                 raise UserInputError("SPEC: --dry-run needs a sweep spec file")
             _print_plan(plan_only(spec, batch_size), as_json)
             return
+        if not resume:
+            from vrusim.sweep.store import SweepStore
+
+            SweepStore(out).check_new(replace=force)  # before planning: refuse a folder in use
         bar = Progress(
             TextColumn("[bold]{task.description}"),
             BarColumn(),
@@ -96,7 +113,7 @@ def sweep_command(
             bar.update(task_id, completed=done, total=total)
 
         try:
-            result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress)
+            result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress, force)
         except KeyboardInterrupt:
             bar.stop()
             typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
@@ -129,15 +146,44 @@ def sweep_command(
     )
 
 
+def _check_modes(force: bool, resume: bool, dry_run: bool, seed: int | None) -> None:
+    """Options that exclude each other."""
+    if force and resume:
+        raise UserInputError("--force: replaces the sweep in --out, --resume continues it; give one of them")
+    if seed is not None and resume:
+        raise UserInputError("--seed: a resumed sweep keeps its seed; give --seed only to start a sweep")
+    if force and dry_run:
+        raise UserInputError("--force: --dry-run writes nothing, so there is nothing to replace")
+
+
+def _spec(spec_file: str | None, seed: int | None) -> SweepSpec | None:
+    """The sweep spec SPEC names (a file or a bundled name), with --seed as its master seed when given."""
+    if spec_file is None:
+        return None
+    from vrusim.sources import sweep_spec_path
+    from vrusim.sweep.spec import load_spec, with_seed
+
+    spec = load_spec(sweep_spec_path(spec_file))
+    return spec if seed is None else with_seed(spec, seed)
+
+
+def _counts(plan: dict) -> str:
+    """The factors whose product is the variant count (the grid points include the catalogue tests: once)."""
+    samples = f"{plan['samples']:,} samples"
+    if not plan["tests"]:
+        return f"{plan['grid_points']:,} grid points × {samples}"
+    values = plan["grid_points"] // plan["tests"]
+    return f"{plan['tests']:,} catalogue tests × {values:,} parameter grid points × {samples}"
+
+
 def _print_plan(plan: dict, as_json: bool) -> None:
     if as_json:
         print_json(plan)
         return
     out = console()
-    tests = f" × {plan['tests']} catalogue tests" if plan["tests"] else ""
     out.print(
-        f"{plan['name']}: {plan['variants']:,} variants ({plan['grid_points']:,} grid points{tests} × "
-        f"{plan['samples']:,} samples) in {plan['batches']:,} batches of {plan['batch_size']:,}; seed {plan['seed']}"
+        f"{plan['name']}: {plan['variants']:,} variants ({_counts(plan)}) in {plan['batches']:,} batches of "
+        f"{plan['batch_size']:,}; seed {plan['seed']}"
     )
     for p in plan["parameters"]:
         drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
@@ -148,8 +194,3 @@ def _print_plan(plan: dict, as_json: bool) -> None:
         drawn = "" if ranks is None else f"  drawn rank correlation {ranks:+.3f}"
         out.print(f"  correlation {c['between'][0]} ~ {c['between'][1]}: rho {c['rho']:+g}{drawn}", markup=False)
     out.print(f"{plan['variants_checked']} variants built and checked; nothing run or written (--dry-run).")
-
-
-def register(app: typer.Typer) -> None:
-    """Add `sweep` to the `vrusim` app."""
-    app.command("sweep")(sweep_command)

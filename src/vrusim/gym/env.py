@@ -13,10 +13,10 @@ from vrusim.gym.episodes import EpisodeBatch
 from vrusim.gym.features import DEFAULT_VRU_SLOTS, feature_names, observation_space
 from vrusim.gym.render import EpisodeFrames
 from vrusim.gym.reward import RewardWeights
-from vrusim.gym.sources import ScenarioSource, resolve_scenario
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import pack
+from vrusim.sources import ScenarioSource, scenario_of
 
 
 def action_space(scenario: Scenario) -> spaces.Box:
@@ -54,7 +54,7 @@ class VruEnv(gymnasium.Env):
     ) -> None:
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"render_mode: {render_mode!r} is not supported; expected None or 'rgb_array'")
-        self.scenario = resolve_scenario(scenario, v2x)
+        self.scenario = scenario_of(scenario, v2x, argument="scenario")
         self.metadata = {**type(self).metadata, "render_fps": 1.0 / self.scenario.sim.dt_s}  # one frame a step
         if len(self.scenario.vrus) > vru_slots:
             raise ValueError(f"vru_slots={vru_slots}: the scenario has {len(self.scenario.vrus)} VRUs")

@@ -23,10 +23,10 @@ from vrusim.gym.env import checked_command
 from vrusim.gym.episodes import EpisodeBatch
 from vrusim.gym.features import DEFAULT_VRU_SLOTS, feature_names, observation_space
 from vrusim.gym.reward import RewardWeights
-from vrusim.gym.sources import ScenarioSource, resolve_scenario
 from vrusim.gym.subset import take
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.params import pack
+from vrusim.sources import ScenarioSource, scenario_of
 
 
 class _Cohort:
@@ -48,7 +48,7 @@ def _scenarios(scenario: ScenarioSource | Sequence[ScenarioSource], num_envs: in
     if len(sources) != num_envs or num_envs < 1:
         raise ValueError(f"num_envs={num_envs}: give one scenario or exactly num_envs scenarios ({len(sources)} given)")
     resolved: dict[int, Scenario] = {}  # the same source object is resolved once
-    return [resolved.setdefault(id(s), resolve_scenario(s, v2x)) for s in sources]
+    return [resolved.setdefault(id(s), scenario_of(s, v2x, argument="scenario")) for s in sources]
 
 
 class VruVectorEnv(VectorEnv):

@@ -308,3 +308,9 @@ def write_assessed_rows(tests: Iterable[AssessedTest], path: str | Path) -> int:
     else:
         write_atomically(path, lambda temp: pq.write_table(table, temp), "assessment")
     return table.num_rows
+
+
+def result_rows(run_rows: Iterable[Mapping], assessment: Assessment) -> list[dict]:
+    """One row per test: the simulation's row joined with its assessment (colour, points, speeds in km/h)."""
+    assessed = {test["test_id"]: test for test in assessed_rows(assessment.tests)}
+    return [dict(row) | assessed[row["test_id"]] for row in run_rows]

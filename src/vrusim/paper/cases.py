@@ -6,11 +6,10 @@ Published values live here once: Table II scores and the event times of the figu
 from __future__ import annotations
 
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 from vrusim.engine.simulate import simulate
-from vrusim.errors import UserInputError
+from vrusim.io.bundled import bundled_dir
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.schema import Scenario
@@ -73,13 +72,7 @@ CAPTION_EVENTS = (
 
 def scenario_dir() -> Path:
     """Folder of the paper's YAML files (inside the installed package, or the source checkout)."""
-    packaged = resources.files("vrusim") / "_scenarios" / "paper"
-    if packaged.is_dir():
-        return Path(str(packaged))
-    checkout = Path(__file__).resolve().parents[3] / "scenarios" / "paper"
-    if checkout.is_dir():
-        return checkout
-    raise UserInputError("the paper's scenario files are missing from this installation")
+    return bundled_dir("scenarios") / "paper"
 
 
 def paper_scenarios() -> list[tuple[PaperCase, bool, Scenario]]:

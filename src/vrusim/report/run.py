@@ -4,28 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import ValidationError
-
-from vrusim.errors import UserInputError
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import parameters, summary_table, transitions_table
 from vrusim.report.run_charts import run_charts
-from vrusim.scenario.loading import describe_validation_error, load_scenario
 from vrusim.scenario.schema import Scenario
-from vrusim.sources import is_scenario_file, single_source
+from vrusim.sources import apply_planner_and_seed, scenario_file, scenario_of
 from vrusim.viz.recording import KEY_EVENT_LABELS, Recording, record
-
-
-def _with_v2x(scenario: Scenario, v2x: bool | None, file: Path) -> Scenario:
-    if v2x is None:
-        return scenario
-    try:
-        return scenario.with_v2x(v2x)
-    except ValidationError as error:
-        switch = "on" if v2x else "off"
-        raise UserInputError(describe_validation_error(error, f"{file} with --v2x {switch}")) from None
 
 
 def what_was_run(scenario: Scenario, row: dict, file: Path | None) -> list[tuple[str, str]]:
@@ -73,13 +59,13 @@ def figures_of(recordings: list[Recording], prefix: str, what: str) -> list[Html
     ]
 
 
-def run_report(source: str | Path, v2x: bool | None = None) -> Report:
-    """Simulate a scenario file or one catalogue test (V2X forced on or off when given) with a trace and report it."""
-    file = Path(source) if is_scenario_file(str(source)) else None
-    if file is not None:
-        scenario = _with_v2x(load_scenario(file), v2x, file)
-    else:  # a catalogue test: the FSM planner, its roadside unit when V2X is on
-        scenario = single_source(str(source), catalogue_v2x=bool(v2x))
+def run_report(
+    source: str | Path, v2x: bool | None = None, planner: str | None = None, seed: int | None = None
+) -> Report:
+    """Simulate a scenario file, a bundled scenario or one catalogue test (FSM planner; its roadside unit when V2X
+    is on) with a trace and report it; V2X, planner and seed are forced when given."""
+    file = scenario_file(str(source))
+    scenario = apply_planner_and_seed(scenario_of(str(source), v2x, option="--v2x"), planner, seed)
     recording = record([scenario])[0]
     row = recording.summary
     outcome = "collision" if row["collided"] else "avoided"

@@ -13,15 +13,15 @@ from pathlib import Path
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.report.page import Report, render
-from vrusim.sources import single_test
+from vrusim.sources import is_bundled_name, scenario_file, single_test
 
 SCENARIO_SUFFIXES = (".yaml", ".yml")
 REPORT_SUFFIXES = (".html", ".htm")
 NCAP_RESULTS = "results.parquet"
 SWEEP_MANIFEST = "manifest.json"
 EXPECTED = (
-    "a scenario .yaml file, a Euro NCAP test id, the word 'paper', a `vrusim ncap --out` folder or a sweep "
-    "results folder"
+    "a scenario .yaml file, a bundled scenario (`vrusim examples`), a Euro NCAP test id, the word 'paper', a "
+    "`vrusim ncap --out` folder or a sweep results folder"
 )
 
 
@@ -38,6 +38,9 @@ def source_kind(source: str, argument: str = "SOURCE") -> SourceKind:
     """Which report SOURCE asks for; a UserInputError naming `argument` when it is none of them."""
     if source == "paper":
         return SourceKind.paper
+    if is_bundled_name(source):
+        scenario_file(source, argument)  # a bundled scenario, or a user error with close names
+        return SourceKind.run
     path = Path(source)
     if not path.exists():
         if path.suffix.lower() in SCENARIO_SUFFIXES:
@@ -71,11 +74,15 @@ def check_output(path: Path, option: str = "--out") -> None:
         raise UserInputError(f"{option}: cannot write {path} (permission denied)")
 
 
-def build_report(source: str, v2x: bool | None = None, bins: int = 10) -> Report:
-    """The report of SOURCE (see `source_kind`); `v2x` forces V2X for a scenario file, `bins` groups sweeps."""
+def build_report(
+    source: str, v2x: bool | None = None, bins: int = 10, planner: str | None = None, seed: int | None = None
+) -> Report:
+    """The report of SOURCE (see `source_kind`); `v2x`, `planner` and `seed` are forced on a run of a scenario (file,
+    bundled or catalogue test), `bins` groups sweeps."""
     kind = source_kind(source)
-    if v2x is not None and kind is not SourceKind.run:
-        raise UserInputError("--v2x: only applies to a scenario file or a catalogue test")
+    for option, value in (("--v2x", v2x), ("--planner", planner), ("--seed", seed)):
+        if value is not None and kind is not SourceKind.run:
+            raise UserInputError(f"{option}: only applies to a scenario file or a catalogue test")
     if kind is SourceKind.paper:
         from vrusim.report.paper import paper_report
 
@@ -83,7 +90,7 @@ def build_report(source: str, v2x: bool | None = None, bins: int = 10) -> Report
     if kind is SourceKind.run:
         from vrusim.report.run import run_report
 
-        return run_report(source, v2x)
+        return run_report(source, v2x, planner, seed)
     if kind is SourceKind.ncap:
         from vrusim.report.ncap import ncap_report_from_folder
 

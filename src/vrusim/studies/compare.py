@@ -1,9 +1,10 @@
 """Compare planners and V2X settings on one scenario: every combination, many seeds, one table.
 
-Each combination runs as one batch of `seeds` variants (seeds 0 … seeds−1 for the channel's and sensor's
-random numbers); a deterministic setting gives identical variants, a stochastic one a distribution. The
-summary per combination: collision probability with its Wilson 95 % interval, mean impact speed over the
-collisions, minimum TTC, first detection times and mean safety / efficiency / comfort scores.
+Each combination runs as one batch of `seeds` variants (seeds first_seed … first_seed + seeds − 1, by default
+0 … seeds − 1, for the channel's and sensor's random numbers); a deterministic setting gives identical variants,
+a stochastic one a distribution. The summary per combination: collision probability with its Wilson 95 %
+interval, mean impact speed over the collisions, minimum TTC, first detection times and mean safety / efficiency
+/ comfort scores.
 """
 
 from __future__ import annotations
@@ -20,7 +21,9 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 
 V2X_OFF = "off"
-"""The `--v2x` value that switches V2X off; any other value names a channel profile."""
+"""The `--v2x` value that switches V2X off."""
+V2X_ON = "on"
+"""The `--v2x` value that switches V2X on with the scenario's own channel; any other value names a profile."""
 
 
 @dataclass(frozen=True)
@@ -58,7 +61,8 @@ def variant(base: Scenario, combination: Combination, seed: int, channel: dict |
         data["v2x"]["enabled"] = False
     else:
         data["v2x"]["enabled"] = True
-        data["v2x"]["channel"] = channel if channel is not None else combination.v2x
+        if combination.v2x != V2X_ON:
+            data["v2x"]["channel"] = channel if channel is not None else combination.v2x
     return scenario_from_mapping(data, f"{base.name} [{combination.planner}, v2x {combination.v2x}]")
 
 
@@ -68,15 +72,16 @@ def compare(
     v2x: Sequence[str],
     seeds: int = 1,
     channels: dict[str, dict] | None = None,
+    first_seed: int = 0,
 ) -> list[dict]:
-    """One summary row per (planner, V2X setting) over `seeds` seeded variants."""
+    """One summary row per (planner, V2X setting) over `seeds` seeded variants (seeds `first_seed` onwards)."""
     if seeds < 1:
         raise UserInputError("--seeds: expected a positive number of seeds")
     if base.v2x.rsu is None and any(name != V2X_OFF for name in v2x):
         raise UserInputError("--v2x: the scenario has no roadside unit (v2x.rsu); only 'off' is possible")
     from vrusim.scenario.v2x import V2X_PROFILES
 
-    known = [V2X_OFF, *V2X_PROFILES, *(channels or {})]
+    known = [V2X_OFF, V2X_ON, *V2X_PROFILES, *(channels or {})]
     unknown = [name for name in v2x if name not in known]
     if unknown:
         raise UserInputError(f"--v2x: unknown setting {unknown[0]!r}; expected one of: {', '.join(known)}")
@@ -84,14 +89,14 @@ def compare(
         try:
             make_planner(name)
         except UserInputError as error:
-            raise UserInputError(str(error).replace("planner.name:", "--planners:", 1)) from None
+            raise UserInputError(str(error).replace("planner.name:", "--planner:", 1)) from None
     rows = []
     for planner in planners:
         combinations = [Combination(planner, name) for name in v2x]
         scenarios = [
             variant(base, combination, seed, (channels or {}).get(combination.v2x))
             for combination in combinations
-            for seed in range(seeds)
+            for seed in range(first_seed, first_seed + seeds)
         ]
         summaries = summary_rows(simulate(scenarios, planner=make_planner(planner)))
         for index, combination in enumerate(combinations):

@@ -165,7 +165,12 @@ def _tasks(plan: SweepPlan, design: dict[str, np.ndarray], pending: list[int]):
 
 
 def _open(
-    spec: SweepSpec | None, store: SweepStore, resume: bool, batch_size: int | None, warnings: list[str]
+    spec: SweepSpec | None,
+    store: SweepStore,
+    resume: bool,
+    batch_size: int | None,
+    warnings: list[str],
+    replace: bool = False,
 ) -> tuple[SweepPlan, dict[str, np.ndarray]]:
     if not resume:
         if spec is None:
@@ -189,7 +194,7 @@ def _open(
             "plan_sha256": plan.digest(),
             "code": {**code_version(), "planner_plugins": plugin_sources(plan)},
         }
-        store.create(manifest, chunk_table(design, design_types(design), {}))
+        store.create(manifest, chunk_table(design, design_types(design), {}), replace)
         return plan, design
     manifest = store.manifest()
     plan = plan_from_manifest(manifest)
@@ -223,8 +228,10 @@ def run_sweep(
     batch_size: int | None = None,
     resume: bool = False,
     progress: Progress | None = None,
+    replace: bool = False,
 ) -> SweepResult:
-    """Run (or resume) a sweep into `out`; returns counts and timing. Bad input raises UserInputError."""
+    """Run (or resume) a sweep into `out` (`replace`: a previous sweep's results there are deleted once the new
+    sweep is planned and checked); returns counts and timing. Bad input raises UserInputError."""
     if workers < 1:
         raise UserInputError("--workers: expected a positive number of worker processes")
     if scheduler:
@@ -232,7 +239,7 @@ def run_sweep(
     started = time.perf_counter()
     store = SweepStore(out)
     warnings: list[str] = []
-    plan, design = _open(spec, store, resume, batch_size, warnings)
+    plan, design = _open(spec, store, resume, batch_size, warnings, replace)
     store.clean_temporary()
     finished = store.finished()
     pending = [i for i in range(plan.chunks) if i not in finished]

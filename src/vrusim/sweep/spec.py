@@ -18,7 +18,7 @@ batch_size: 2000                                      # variants per batch (= pe
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -332,6 +332,11 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
         source=data,
         correlations=correlations,
     )
+
+
+def with_seed(spec: SweepSpec, seed: int) -> SweepSpec:
+    """The spec with another master seed, as if its YAML said `seed: <seed>`."""
+    return replace(spec, seed=seed, source={**spec.source, "seed": seed})
 
 
 def load_spec(path: str | Path) -> SweepSpec:

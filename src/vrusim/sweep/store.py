@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -47,13 +48,35 @@ class SweepStore:
     def manifest_path(self) -> Path:
         return self.folder / MANIFEST
 
-    def create(self, manifest: dict[str, Any], design: pa.Table) -> None:
-        """Start a new results folder (missing or empty): design first, then the manifest that marks it."""
-        if self.folder.exists() and (not self.folder.is_dir() or any(self.folder.iterdir())):
+    def check_new(self, replace: bool = False) -> None:
+        """Refuse a folder that cannot take a new sweep: a file, or a folder that is not empty, unless `replace` and
+        it holds a previous sweep's results."""
+        if not self.folder.exists() or (self.folder.is_dir() and not any(self.folder.iterdir())):
+            return
+        if not self.folder.is_dir() or not replace:
             raise UserInputError(
                 f"--out: {self.folder} already exists and is not empty; use --resume to continue the sweep in it, "
-                "or choose a new folder"
+                "--force to replace it, or choose a new folder"
             )
+        if not self.manifest_path.is_file():
+            raise UserInputError(
+                f"--out: {self.folder} is not empty and holds no sweep results (no {MANIFEST}); --force replaces "
+                "only a previous sweep, choose a new folder"
+            )
+
+    def remove(self) -> None:
+        """Delete a previous sweep's files: the manifest first (the folder stops being a sweep), design, batches."""
+        self.manifest_path.unlink(missing_ok=True)
+        (self.folder / DESIGN).unlink(missing_ok=True)
+        if self.chunks.is_dir():
+            shutil.rmtree(self.chunks)
+
+    def create(self, manifest: dict[str, Any], design: pa.Table, replace: bool = False) -> None:
+        """Start a new results folder (missing or empty; with `replace`, one holding a previous sweep, whose files
+        are deleted): design first, then the manifest that marks it."""
+        self.check_new(replace)
+        if replace:
+            self.remove()
         try:
             self.chunks.mkdir(parents=True, exist_ok=True)
         except OSError as error:

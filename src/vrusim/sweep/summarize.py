@@ -62,16 +62,6 @@ def bin_edges(low: float, high: float, bins: int) -> list[float]:
     return [low, *(min(low + i * width, high) for i in range(1, bins)), high]
 
 
-def split_names(option: str, value: str | None) -> list[str]:
-    """Names from a comma-separated option value, in order, without repeats; [] for None."""
-    if value is None:
-        return []
-    names = list(dict.fromkeys(name.strip() for name in value.split(",") if name.strip()))
-    if not names:
-        raise UserInputError(f"{option}: expected a comma-separated list of names")
-    return names
-
-
 def _connect() -> duckdb.DuckDBPyConnection:
     return duckdb.connect(":memory:")
 

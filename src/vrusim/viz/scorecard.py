@@ -147,8 +147,8 @@ def write_scorecard_png(assessment: Assessment, path: str | Path, dpi: float = 1
 def group_table(group: GroupScore, tests: list[AssessedTest]) -> Group:
     """One group's title (points / cap) and colour grid: rows scenarios, columns test speeds."""
     rows, speeds, cells = group_grid(tests)
-    table = Table(box=box.SIMPLE_HEAD, padding=(0, 0))
-    table.add_column("Scenario ", no_wrap=True)
+    table = Table(box=None, padding=(0, 0), header_style="bold underline")  # no dividers: fits 80 columns
+    table.add_column("Scenario ")  # wraps ("CBNAO-50\nday") rather than cut at 80 columns
     for speed in speeds:
         table.add_column(f" {speed:g} ", justify="center", no_wrap=True)
     for row in rows:

@@ -1,0 +1,83 @@
+"""The `vrusim` command line: the Typer app, its commands (one module each) and the console-script entry point.
+
+    vrusim run SOURCE [--planner NAME] [--v2x on|off] [--seed N] [--json] [--trace|--plot|--animate OUT]
+    vrusim paper | ncap | list | compare | sweep | summarize | report | export | examples   (`vrusim CMD --help`)
+    vrusim --version
+
+Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit
+code 2, never a traceback; anything else that goes wrong is a bug and keeps its traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Sequence
+from typing import Annotated
+
+import typer
+
+from vrusim.cli.compare import compare_command
+from vrusim.cli.examples import examples_command
+from vrusim.cli.export import export_command
+from vrusim.cli.help import Command, Group
+from vrusim.cli.ncap import list_command, ncap_command
+from vrusim.cli.output import USER_ERROR_EXIT_CODE, report_user_error
+from vrusim.cli.paper import paper_command
+from vrusim.cli.report import report_command
+from vrusim.cli.run import run_command
+from vrusim.cli.summarize import summarize_command
+from vrusim.cli.sweep import sweep_command
+from vrusim.errors import UserInputError
+from vrusim.version import __version__
+
+COMMANDS: dict[str, Callable[..., None]] = {
+    "run": run_command,
+    "paper": paper_command,
+    "list": list_command,
+    "ncap": ncap_command,
+    "compare": compare_command,
+    "sweep": sweep_command,
+    "summarize": summarize_command,
+    "report": report_command,
+    "export": export_command,
+    "examples": examples_command,
+}
+"""Every command by name, in the order `vrusim --help` lists them."""
+
+app = typer.Typer(
+    name="vrusim",
+    help="Closed-loop simulation of Euro NCAP vulnerable-road-user tests with perception, V2X and planners.",
+    cls=Group,
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_show_locals=False,
+)
+
+
+def _version_callback(value: bool) -> None:
+    if value:
+        typer.echo(f"vrusim {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option("--version", help="Print the version and exit.", callback=_version_callback, is_eager=True),
+    ] = False,
+) -> None:
+    """Closed-loop simulation of Euro NCAP vulnerable-road-user tests with perception, V2X and planners."""
+
+
+for _name, _command in COMMANDS.items():
+    app.command(_name, cls=Command)(_command)
+
+
+def main(argv: Sequence[str] | None = None, prog_name: str = "vrusim") -> None:
+    """Console-script entry point: run the app; any UserInputError becomes its message and exit code 2."""
+    try:
+        app(args=None if argv is None else list(argv), prog_name=prog_name)
+    except UserInputError as error:
+        report_user_error(error)
+        sys.exit(USER_ERROR_EXIT_CODE)
