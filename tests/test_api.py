@@ -137,9 +137,9 @@ def test_load_a_catalogue_test_id():
 @pytest.mark.parametrize(
     ("source", "message"),
     [
-        ("paper:pedestrain", "source: unknown bundled scenario 'paper:pedestrain' (did you mean paper:pedestrian?)"),
+        ("paper:pedestrain", "source: no bundled scenario named 'paper:pedestrain'; did you mean paper:pedestrian"),
         ("CPNCO-50", "source: 'CPNCO-50' selects"),
-        ("no-such-test", "source: 'no-such-test' is not a scenario file, a bundled scenario"),
+        ("no-such-test", "source: 'no-such-test' is not a YAML file, a bundled name"),
         (42, "source: expected a Scenario"),
     ],
 )
@@ -260,7 +260,7 @@ def test_run_settings_mean_what_vrusim_compare_does(pedestrian):
         ({"v2x": "maybe"}, "v2x: unknown V2X setting 'maybe'; expected one of: on, off, ideal"),
         ({"seed": -1}, "sim.seed: Input should be greater than or equal to 0"),
         ({"scenarios": []}, "scenarios: the list is empty"),
-        ({"scenarios": ["paper:pedestrian", "paper:nope"]}, "scenarios[1]: unknown bundled scenario 'paper:nope'"),
+        ({"scenarios": ["paper:pedestrian", "paper:nope"]}, "scenarios[1]: no bundled scenario named 'paper:nope'"),
     ],
 )
 def test_run_refuses_bad_arguments_naming_them(pedestrian, arguments, message):
@@ -400,8 +400,8 @@ def test_run_sweep_and_read_it_back(tmp_path, pedestrian):
 @pytest.mark.parametrize(
     ("spec", "message"),
     [
-        ("example:no-such-spec", "spec: unknown bundled sweep spec 'example:no-such-spec'"),
-        (SMALL_SWEEP | {"base": "paper:nope"}, "spec: base: unknown bundled scenario 'paper:nope'"),
+        ("example:no-such-spec", "spec: no bundled sweep spec named 'example:no-such-spec'; expected one of example:pedestrian-monte-carlo"),
+        (SMALL_SWEEP | {"base": "paper:nope"}, "spec: base: no bundled scenario named 'paper:nope'"),
         (SMALL_SWEEP | {"parameters": {"ego.speed": [1.0]}}, "parameters: ego.speed: unknown field 'speed' in ego"),
         (3, "spec: expected a sweep spec file"),
     ],
