@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import IntEnum
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,9 +49,8 @@ class StopReason(IntEnum):
 _COLLISION, _ROUTE_END, _TIME_UP = int(StopReason.COLLISION), int(StopReason.ROUTE_END), int(StopReason.TIME_UP)
 
 
-@dataclass(frozen=True)
-class StepOutcome:
-    """What the stop rules decided in one step, per working-set variant."""
+class StepOutcome(NamedTuple):
+    """What the stop rules decided in one step, per working-set variant (a named tuple: cheap to make per step)."""
 
     reason: np.ndarray
     """`StopReason` code per variant [B] (int8): why it stopped in this step, 0 (`RUNNING`) if it did not

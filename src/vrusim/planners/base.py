@@ -57,9 +57,12 @@ class PlannerBase:
         raise NotImplementedError
 
 
+_DEFAULTS = {name: getattr(PlannerBase, name) for name in ("mode_names", "mode", "warning")}
+
+
 def _declared(planner: object, name: str):
     """`planner.name`, or `PlannerBase`'s default for planners that neither subclass it nor set the attribute."""
-    return getattr(planner, name, getattr(PlannerBase, name))
+    return getattr(planner, name, _DEFAULTS[name])
 
 
 def planner_mode_names(planner: object) -> tuple[str, ...]:
