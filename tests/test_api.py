@@ -400,7 +400,10 @@ def test_run_sweep_and_read_it_back(tmp_path, pedestrian):
 @pytest.mark.parametrize(
     ("spec", "message"),
     [
-        ("example:no-such-spec", "spec: no bundled sweep spec named 'example:no-such-spec'; expected one of example:pedestrian-monte-carlo"),
+        (
+            "example:no-such-spec",
+            "spec: no bundled sweep spec named 'example:no-such-spec'; expected one of example:pedestrian-monte-carlo",
+        ),
         (SMALL_SWEEP | {"base": "paper:nope"}, "spec: base: no bundled scenario named 'paper:nope'"),
         (SMALL_SWEEP | {"parameters": {"ego.speed": [1.0]}}, "parameters: ego.speed: unknown field 'speed' in ego"),
         (3, "spec: expected a sweep spec file"),

@@ -24,7 +24,8 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.observation import SOURCE_SENSOR
 from vrusim.sim.params import pack
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normals, uniforms
-from vrusim.sim.sensing.sensor_model import IdealSensor, RealisticSensor, make_sensor_model, whole_steps
+from vrusim.sim.sensing.sensor_model import IdealSensor, RealisticSensor, make_sensor_model
+from vrusim.sim.sensing.sensor_params import whole_steps
 
 DT = 0.01
 SCRATCH_FIELDS = {"prev_actuator", "prev_clearance", "prev_speed"}
@@ -170,12 +171,13 @@ def test_frame_rate_holds_the_last_report_between_frames(crossing):
 # --- the model against its definition, step by step -----------------------------------------------------------
 
 
-def reference(params, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Reports [N, B, K] and [N, 6, B, K] straight from the definition (docs/models.md, "Sensor model")."""
+def reference(scenarios, params, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Reports [N, B, K] and [N, 6, B, K] straight from the definition (docs/models.md, "Sensor model"), read
+    from the scenarios' `sensor` fields (not from the packed `params.sensor`)."""
     steps, _, K = visible.shape
     detected = np.zeros(visible.shape, dtype=bool)
     estimate = np.zeros(truth.shape)
-    for b, scenario in enumerate(params.scenarios):
+    for b, scenario in enumerate(scenarios):
         sensor = scenario.sensor
         latency = whole_steps(sensor.latency_s, DT)
         period = 1 if sensor.frame_rate_hz is None else max(1, whole_steps(1 / sensor.frame_rate_hz, DT))
@@ -203,15 +205,20 @@ def drive(params, visible: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, n
     return np.stack([d for d, _ in out]), np.stack([e for _, e in out])
 
 
-def sensor_batch(make_scenario, settings_list: list[dict], vrus: int = 1):
-    """Packed batch: one minimal scenario per sensor setting (seed included), with `vrus` VRU slots."""
+def sensor_scenarios(make_scenario, settings_list: list[dict], vrus: int = 1) -> list:
+    """One minimal scenario per sensor setting (seed included), with `vrus` VRU slots."""
     far = make_scenario().model_dump(mode="json")["vrus"][0]
     scenarios = []
     for index, sensor in enumerate(settings_list):
         sensor = dict(sensor)
         seed = sensor.pop("seed", index)
         scenarios.append(make_scenario({"sensor": sensor, "sim": {"seed": seed}, "vrus": [far] * vrus}))
-    return pack(scenarios)
+    return scenarios
+
+
+def sensor_batch(make_scenario, settings_list: list[dict], vrus: int = 1):
+    """Packed batch of `sensor_scenarios`."""
+    return pack(sensor_scenarios(make_scenario, settings_list, vrus))
 
 
 sensor_settings = st.fixed_dictionaries(
@@ -229,13 +236,14 @@ sensor_settings = st.fixed_dictionaries(
 @settings(deadline=None, max_examples=40)
 @given(st.lists(sensor_settings, min_size=1, max_size=5), st.integers(1, 3), st.integers(0, 2**32 - 1))
 def test_reports_match_the_definition(make_scenario, settings_list, vrus, data_seed):
-    params = sensor_batch(make_scenario, settings_list, vrus)
+    scenarios = sensor_scenarios(make_scenario, settings_list, vrus)
+    params = pack(scenarios)
     rng = np.random.default_rng(data_seed)
     steps, shape = 40, params.vru_valid.shape
     visible = rng.random((steps, *shape)) < 0.6
     truth = rng.normal(size=(steps, 6, *shape))
     detected, estimate = drive(params, visible, truth)
-    want_detected, want_estimate = reference(params, visible, truth)
+    want_detected, want_estimate = reference(scenarios, params, visible, truth)
     assert np.array_equal(detected, want_detected)
     np.testing.assert_allclose(estimate, want_estimate, rtol=0, atol=1e-12)
 

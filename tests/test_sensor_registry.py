@@ -19,7 +19,7 @@ class LateSensor(IdealSensor):
 
 
 def _is_late(params) -> bool:
-    return all(s.sensor.latency_s >= 0.5 for s in params.scenarios)
+    return bool((params.sensor.latency_steps * params.dt_s >= 0.5).all())
 
 
 @pytest.fixture

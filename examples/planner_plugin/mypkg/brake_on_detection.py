@@ -10,7 +10,7 @@ class BrakeOnDetection(PlannerBase):  # optional base: declares mode_names, mode
 
     def reset(self, params):
         # per-variant parameters from YAML `planner.params`; validate them yourself
-        self.decel = np.array([float(s.planner.params.get("decel_mps2", 4.0)) for s in params.scenarios])
+        self.decel = np.array([float(given.get("decel_mps2", 4.0)) for given in params.planner_params])
         self.mode = np.zeros(params.size, dtype=np.int8)
 
     def act(self, obs):

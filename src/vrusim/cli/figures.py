@@ -28,11 +28,12 @@ def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
             check_animation_path(animate)
 
 
-def write_run_outputs(run, plot: Path | None, animate: Path | None) -> list[str]:
-    """Write the run figure and / or the animation of a traced one-variant run; return what was written."""
+def write_run_outputs(run, scenario, plot: Path | None, animate: Path | None) -> list[str]:
+    """Write the run figure and / or the animation of a traced one-variant run of `scenario`; return what was
+    written."""
     from vrusim.viz.recording import recordings_of
 
-    recordings = recordings_of(run)
+    recordings = recordings_of(run, [scenario])
     written = []
     if plot is not None:
         from vrusim.viz.runplot import write_run_figure

@@ -89,7 +89,7 @@ def run_command(
         if trace is not None:
             with named_errors("--trace"):
                 rows_written = write_trace(result, trace)
-        written = write_run_outputs(result, plot, animate) if pictures else []
+        written = write_run_outputs(result, scenario, plot, animate) if pictures else []
     if as_json:
         print_json(row)
         return

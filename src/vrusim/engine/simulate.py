@@ -36,8 +36,8 @@ class BatchRun:
     steps: int = 0
 
 
-def _planner_for(scenarios: Sequence[Scenario]) -> Planner:
-    names = {s.planner.name for s in scenarios}
+def _planner_for(planner_names: Sequence[str]) -> Planner:
+    names = set(planner_names)
     if len(names) != 1:
         raise UserInputError(f"planner.name: one batch runs one planner, got {sorted(names)}")
     return make_planner(names.pop())
@@ -60,8 +60,8 @@ def simulate(
     planner or channel passed in then ends the run holding only the variants still running at its end.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
-    planner_name = batch.scenarios[0].planner.name if planner is None else type(planner).__name__
-    planner = planner if planner is not None else _planner_for(batch.scenarios)
+    planner_name = batch.planner_names[0] if planner is None else type(planner).__name__
+    planner = planner if planner is not None else _planner_for(batch.planner_names)
     planner.reset(batch)
     mode_names = planner_mode_names(planner)
     stepper = BatchStepper(batch, len(mode_names), channel)

@@ -40,7 +40,7 @@ class RewardModel:
 
     def __init__(self, params: BatchParams, weights: RewardWeights) -> None:
         self.weights = weights
-        profiles = [profile(s.metrics.profile) for s in params.scenarios]
+        profiles = [profile(name) for name in params.score_profiles]
         self.accel_scale = np.array([p.accel_scale_mps2 for p in profiles])
         self.jerk_scale = np.array([p.jerk_scale_mps3 for p in profiles])
         self.ttc_threshold = np.array([p.ttc_threshold_s for p in profiles])

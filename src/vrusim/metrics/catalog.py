@@ -334,7 +334,7 @@ def _trip_time(view: BatchView) -> np.ndarray:
 
 def score_profile_names(view: BatchView) -> list[str]:
     """The score profile of each variant (its scenario's `metrics.profile`)."""
-    return [scenario.metrics.profile for scenario in view.params.scenarios]
+    return list(view.params.score_profiles)
 
 
 def _scores(view: BatchView) -> dict[str, np.ndarray]:

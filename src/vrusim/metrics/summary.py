@@ -17,8 +17,9 @@ def summary_rows(run: BatchRun) -> list[dict]:
     values = {metric.name: metric.json_values(view, columns) for metric in metrics()}
     profiles = score_profile_names(view)
     rows = []
-    for b, scenario in enumerate(run.params.scenarios):
-        row = {"scenario": scenario.name, "v2x": bool(scenario.v2x.enabled), "planner": scenario.planner.name}
+    params = run.params
+    for b in range(params.size):
+        row = {"scenario": params.names[b], "v2x": bool(params.v2x_enabled[b]), "planner": params.planner_names[b]}
         row.update({name: per_variant[b] for name, per_variant in values.items()})
         row["score_profile"] = profiles[b]
         rows.append(row)

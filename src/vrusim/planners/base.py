@@ -1,8 +1,8 @@
 """The planner interface: any object with `reset` and `act` can drive the ego.
 
 A planner is created once, `reset(params)` is called before a batch starts (it may read per-variant parameters
-from `params.scenarios[b].planner.params`), and `act(observation)` is called every step and returns the
-commanded longitudinal acceleration per variant, m/s^2, shape [B].
+from `params.planner_params[b]`, read-only mappings of the YAML `planner.params`), and `act(observation)` is
+called every step and returns the commanded longitudinal acceleration per variant, m/s^2, shape [B].
 
 Three optional attributes are declared, with their defaults, on `PlannerBase`: planners with discrete modes
 set `mode_names` (a tuple of names) and `mode` (int array [B], index into `mode_names`) so that the engine

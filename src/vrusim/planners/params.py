@@ -1,4 +1,5 @@
-"""Planner parameters from YAML `planner.params`: pydantic validation per variant, errors naming the field."""
+"""Planner parameters from YAML `planner.params` (`BatchParams.planner_params`, plain mappings): validated per
+variant when the planner packs them at `reset`, errors naming the scenario and the field."""
 
 from __future__ import annotations
 
@@ -22,13 +23,13 @@ def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
     Message: `<scenario>: planner.params.<field>: <reason>` ("unknown field" for a name the model lacks).
     """
     out = []
-    for scenario in params.scenarios:
+    for name, given in zip(params.names, params.planner_params, strict=True):
         try:
-            out.append(model.model_validate(scenario.planner.params))
+            out.append(model.model_validate(dict(given)))
         except ValidationError as error:
             item = error.errors(include_url=False)[0]
             where = field_path(("planner", "params", *item["loc"]))
-            raise UserInputError(f"{scenario.name}: {where}: {error_message(item)}") from None
+            raise UserInputError(f"{name}: {where}: {error_message(item)}") from None
     return out
 
 

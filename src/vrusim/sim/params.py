@@ -1,10 +1,18 @@
-"""Pack many Scenarios into one structure-of-arrays parameter set (first axis = variant, second = VRU slot)."""
+"""Pack many Scenarios into one structure-of-arrays parameter set (first axis = variant, second = VRU slot).
+
+After `pack`, nothing in the engine reads a pydantic model: every component finds its settings here, packed
+once (the sensor model's in `sensor`, the V2X channel's in `channel`; a planner validates its own
+`planner_params`, plain mappings, at `reset`).
+"""
 
 from __future__ import annotations
 
+import copy
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from types import MappingProxyType
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -14,6 +22,8 @@ from vrusim.geometry.paths import Line, PathSpec
 from vrusim.scenario.routes import ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
+from vrusim.sim.sensing.sensor_params import SensorParams, pack_sensor
+from vrusim.sim.v2x.channel_params import ChannelParams, pack_channel
 from vrusim.sim.vru.point_mass import POINT_MASS
 from vrusim.sim.vru.registry import vru_motion
 
@@ -22,14 +32,21 @@ _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
 """Path of an unused VRU slot: 10,000 km away, so it never interacts."""
 
 
-@dataclass
+@dataclass(frozen=True)
 class BatchParams:
-    """Constant per-variant parameters of a batch. Shapes: [B] or [B, K]; SI units."""
+    """Constant per-variant parameters of a batch. Shapes: [B] or [B, K] (lists: one item per variant); SI units."""
 
     shared: ClassVar[frozenset[str]] = frozenset({"routes", "vru_paths"})
     """Path tables shared by all variants (each addresses its rows by offset): kept whole by `take`."""
 
-    scenarios: list[Scenario]
+    names: list[str]
+    """Each variant's scenario name."""
+    planner_names: list[str]
+    """Each variant's `planner.name`."""
+    planner_params: list[Mapping[str, Any]]
+    """Each variant's `planner.params` as written (read-only mappings); the planner validates them at `reset`."""
+    score_profiles: list[str]
+    """Each variant's score profile name (`metrics.profile`)."""
     dt_s: float
     n_steps: int
     duration_s: np.ndarray
@@ -61,12 +78,16 @@ class BatchParams:
     sensor_cos_half: np.ndarray
     sensor_sin_half: np.ndarray
     obstacles: ObstacleArrays  # count [B]; boxes [B, M], M = most obstacles in the batch; occlude the sensor only
+    sensor: SensorParams
+    """The sensor model's settings (latency, frame period, misses, noise)."""
     # v2x
     v2x_enabled: np.ndarray
     rsu_x_m: np.ndarray
     rsu_y_m: np.ndarray
     comm_range_m: np.ndarray
     coverage_range_m: np.ndarray
+    channel: ChannelParams
+    """The V2X channel's settings (generation, delay, loss, outages)."""
     # vrus [B, K]
     vru_valid: np.ndarray
     vru_type: np.ndarray
@@ -88,7 +109,7 @@ class BatchParams:
     @property
     def size(self) -> int:
         """Number of variants B."""
-        return len(self.scenarios)
+        return self.duration_s.shape[0]
 
     @property
     def vru_slots(self) -> int:
@@ -169,7 +190,10 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     wheelbase = ego_array(lambda s: s.ego.wheelbase_m)
     duration = ego_array(lambda s: s.sim.duration_s)
     return BatchParams(
-        scenarios=list(scenarios),
+        names=[s.name for s in scenarios],
+        planner_names=[s.planner.name for s in scenarios],
+        planner_params=[MappingProxyType(copy.deepcopy(dict(s.planner.params))) for s in scenarios],
+        score_profiles=[s.metrics.profile for s in scenarios],
         dt_s=dt,
         n_steps=math.ceil(duration.max() / dt - 1e-9),
         duration_s=duration,
@@ -199,11 +223,13 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         sensor_cos_half=np.cos(half_fov),
         sensor_sin_half=np.sin(half_fov),
         obstacles=pack_obstacles([s.obstacles for s in scenarios]),
+        sensor=pack_sensor(scenarios),
         v2x_enabled=np.array([s.v2x.enabled for s in scenarios]),
         rsu_x_m=ego_array(lambda s: s.v2x.rsu.x_m if s.v2x.rsu else 0.0),
         rsu_y_m=ego_array(lambda s: s.v2x.rsu.y_m if s.v2x.rsu else 0.0),
         comm_range_m=ego_array(lambda s: s.v2x.comm_range_m),
         coverage_range_m=ego_array(lambda s: s.v2x.coverage_range_m),
+        channel=pack_channel(scenarios, dt),
         vru_valid=vru_valid,
         vru_type=vru_type,
         vru_top_speed_mps=numeric["top"],

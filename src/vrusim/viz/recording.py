@@ -103,18 +103,20 @@ def vru_paths_xy_m(scenario: Scenario) -> list[np.ndarray]:
 def record(scenarios: Sequence[Scenario]) -> list[Recording]:
     """Simulate the scenarios as one traced batch; one Recording per scenario."""
     run = simulate(list(scenarios), trace=True)
-    return recordings_of(run)
+    return recordings_of(run, scenarios)
 
 
-def recordings_of(run: BatchRun) -> list[Recording]:
-    """Split a traced batch run into one Recording per variant."""
+def recordings_of(run: BatchRun, scenarios: Sequence[Scenario]) -> list[Recording]:
+    """Split a traced batch run of `scenarios` (in batch order) into one Recording per variant."""
     if run.trace is None:
         raise ValueError("recordings need a traced run: simulate(..., trace=True)")
+    if len(scenarios) != run.params.size:
+        raise ValueError(f"recordings_of: {len(scenarios)} scenarios for a batch of {run.params.size} variants")
     rows = summary_rows(run)
     first = _initial_row(run)
     per_variant = {name: values for name, values in run.trace.items() if name != "t_s"}
     recordings = []
-    for b, (scenario, row) in enumerate(zip(run.params.scenarios, rows, strict=True)):
+    for b, (scenario, row) in enumerate(zip(scenarios, rows, strict=True)):
         trace = {name: np.concatenate([first[name][b : b + 1], values[:, b]]) for name, values in per_variant.items()}
         trace["t_s"] = np.concatenate([[0.0], run.trace["t_s"]])
         trace = _trim(trace, row)

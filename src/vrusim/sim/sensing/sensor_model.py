@@ -18,13 +18,11 @@ step m without noise. Every draw is keyed by the variant's seed and the measurem
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 import numpy as np
 
 from vrusim.kernels import batch_kernel, prange
-from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
@@ -52,33 +50,6 @@ class IdealSensor:
         return None
 
 
-def whole_steps(duration_s: float, dt_s: float) -> int:
-    """A duration in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt)."""
-    return math.floor(duration_s / dt_s + 0.5 + 1e-9)
-
-
-def latency_steps(scenario: Scenario) -> int:
-    """The scenario's sensor latency L in whole steps of its `sim.dt_s`."""
-    return whole_steps(scenario.sensor.latency_s, scenario.sim.dt_s)
-
-
-def frame_steps(scenario: Scenario) -> int:
-    """The scenario's sensor frame period F in whole steps (at least 1; 1 without `frame_rate_hz`)."""
-    rate = scenario.sensor.frame_rate_hz
-    return 1 if rate is None else max(1, whole_steps(1.0 / rate, scenario.sim.dt_s))
-
-
-def is_ideal(scenario: Scenario) -> bool:
-    """Whether the scenario's sensor reports every visible VRU at once and exactly (lighting aside)."""
-    sensor = scenario.sensor
-    exact = sensor.detection_probability == 1.0 and sensor.position_sigma_m == 0.0 and sensor.velocity_sigma_mps == 0.0
-    if not exact:
-        return False
-    if sensor.latency_s == 0.0 and sensor.frame_rate_hz is None:  # the defaults: no rounding to do
-        return True
-    return latency_steps(scenario) == 0 and frame_steps(scenario) == 1
-
-
 class RealisticSensor:
     """Latency, frame rate, missed detections and noise, per variant; keyed random draws (`sim/rng.py`).
 
@@ -89,14 +60,14 @@ class RealisticSensor:
     variant_axes: ClassVar[dict[str, int]] = {"seen": 1, "history": 2, "held_estimate": 1}
 
     def reset(self, params: BatchParams) -> None:
-        """Per-variant settings from `params.scenarios`; empty ring buffer and no report held."""
-        scenarios = params.scenarios
+        """Per-variant settings from `params.sensor`; empty ring buffer and no report held."""
+        sensor = params.sensor
         self.seed = params.seed
-        self.latency = np.array([latency_steps(s) for s in scenarios], dtype=np.int64)
-        self.period = np.array([frame_steps(s) for s in scenarios], dtype=np.int64)
-        self.probability = np.array([s.sensor.detection_probability for s in scenarios])
-        self.position_sigma_m = np.array([s.sensor.position_sigma_m for s in scenarios])
-        self.velocity_sigma_mps = np.array([s.sensor.velocity_sigma_mps for s in scenarios])
+        self.latency = sensor.latency_steps.copy()
+        self.period = sensor.frame_steps.copy()
+        self.probability = sensor.detection_probability.copy()
+        self.position_sigma_m = sensor.position_sigma_m.copy()
+        self.velocity_sigma_mps = sensor.velocity_sigma_mps.copy()
         shape = params.vru_valid.shape
         depth = int(self.latency.max()) + 1
         self.seen = np.zeros((depth, *shape), dtype=bool)
@@ -191,7 +162,7 @@ def _observe(
 
 def all_ideal(params: BatchParams) -> bool:
     """Whether every variant's sensor is ideal (`is_ideal`)."""
-    return all(is_ideal(s) for s in params.scenarios)
+    return bool(params.sensor.ideal.all())
 
 
 register_sensor_model("ideal", all_ideal, IdealSensor, before=None)

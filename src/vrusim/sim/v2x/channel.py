@@ -7,49 +7,18 @@ about a VRU is the newest message delivered, predicted forward at constant veloc
 
 from __future__ import annotations
 
-import math
 from typing import ClassVar
 
 import numpy as np
 
-from vrusim.scenario.v2x import ChannelSpec
 from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.v2x import kernels as kern
-from vrusim.sim.v2x.loss.registry import LossContext, LossModelEntry, loss_entries, loss_entry
+from vrusim.sim.v2x.loss.registry import LossContext, LossModelEntry, loss_entries
 from vrusim.sim.v2x.messages import Channel, IdealChannel, V2xMessages
 
 _NO_PLUGIN_LOSS = np.zeros((1, 1), dtype=bool)
 """`external_lost` of a batch without plug-in loss models (never read)."""
-_MODES = {"every_step": kern.MODE_EVERY_STEP, "periodic": kern.MODE_PERIODIC, "etsi_vam": kern.MODE_ETSI_VAM}
-
-
-def channel_config(spec: ChannelSpec, dt_s: float) -> tuple[int, int, np.ndarray, tuple[float, ...]]:
-    """(generation mode, loss model code, cfg row [N_CFG], loss parameters) of one variant's channel."""
-    gen, loss = spec.generation, spec.loss
-    row = np.zeros(kern.N_CFG)
-    row[kern.CFG_PERIOD_STEPS] = 1.0 / (gen.rate_hz * dt_s) if gen.mode == "periodic" else 0.0
-    row[kern.CFG_VAM_MIN_STEPS] = gen.vam_min_interval_s / dt_s
-    row[kern.CFG_VAM_MAX_STEPS] = gen.vam_max_interval_s / dt_s
-    row[kern.CFG_VAM_POSITION_M] = gen.vam_position_change_m
-    row[kern.CFG_VAM_SPEED_MPS] = gen.vam_speed_change_mps
-    row[kern.CFG_VAM_COS_HEADING] = math.cos(math.radians(gen.vam_heading_change_deg))
-    row[kern.CFG_LATENCY_S] = spec.latency_s
-    row[kern.CFG_JITTER_S] = spec.jitter_s
-    row[kern.CFG_POSITION_SIGMA_M] = spec.rsu_position_sigma_m
-    row[kern.CFG_SPEED_SIGMA_MPS] = spec.rsu_speed_sigma_mps
-    row[kern.CFG_MAX_AGE_S] = spec.track_max_age_s
-    entry = loss_entry(loss)
-    return _MODES[gen.mode], entry.code, row, tuple(float(v) for v in entry.pack(loss))
-
-
-def queue_capacity(spec: ChannelSpec, dt_s: float) -> int:
-    """Most messages of one VRU in flight at once, plus one: floor(max delay / min interval) + 2 (in steps)."""
-    gen = spec.generation
-    max_delay = math.ceil((spec.latency_s + spec.jitter_s) / dt_s - 1e-9)
-    interval = {"every_step": 1.0, "periodic": 1.0 / (gen.rate_hz * dt_s), "etsi_vam": gen.vam_min_interval_s / dt_s}
-    min_interval = max(1, math.floor(interval[gen.mode] - 1e-6))
-    return max_delay // min_interval + 2
 
 
 class RealisticChannel:
@@ -63,31 +32,23 @@ class RealisticChannel:
     shared: ClassVar[frozenset[str]] = frozenset({"plugins"})
 
     def reset(self, params: BatchParams) -> None:
-        """Pack every variant's channel spec and clear the RSU, link, queue and track state."""
+        """Take every variant's packed channel settings (`params.channel`) and clear the RSU, link, queue and
+        track state."""
         B, K = params.size, params.vru_slots
-        dt = params.dt_s
-        specs = [s.v2x.channel_spec for s in params.scenarios]
-        unique: dict[ChannelSpec, tuple[int, int, np.ndarray, tuple[float, ...]]] = {}
-        rows = [unique[spec] if spec in unique else unique.setdefault(spec, channel_config(spec, dt)) for spec in specs]
-        self.dt_s = dt
+        packed = params.channel
+        self.dt_s = params.dt_s
         self.seed = np.ascontiguousarray(params.seed, dtype=np.int64)
-        self.mode = np.array([r[0] for r in rows], dtype=np.int8)
-        self.loss_model = np.array([r[1] for r in rows], dtype=np.int8)
-        self.cfg = np.stack([r[2] for r in rows])
-        self.loss_params = np.zeros((B, max(1, *(len(r[3]) for r in rows))))
-        for b, r in enumerate(rows):
-            self.loss_params[b, : len(r[3])] = r[3]
+        self.mode = packed.mode.copy()
+        self.loss_model = packed.loss_model.copy()
+        self.cfg = packed.cfg.copy()
+        self.loss_params = packed.loss_params.copy()
         codes = set(self.loss_model.tolist())
         self.plugins: tuple[LossModelEntry, ...] = tuple(
             e for e in loss_entries().values() if e.lost is not None and e.code in codes
         )
-        most = max(len(spec.outages) for spec in specs)
-        self.outage_start, self.outage_end = np.zeros((B, most)), np.zeros((B, most))
-        self.outage_count = np.array([len(spec.outages) for spec in specs], dtype=np.int64)
-        for b, spec in enumerate(specs):
-            for i, outage in enumerate(spec.outages):
-                self.outage_start[b, i], self.outage_end[b, i] = outage.start_s, outage.end_s
-        capacity = max(queue_capacity(spec, dt) for spec in unique)
+        self.outage_start, self.outage_end = packed.outage_start_s.copy(), packed.outage_end_s.copy()
+        self.outage_count = packed.outage_count.copy()
+        capacity = int(packed.queue_capacity.max())
         self.last_gen = np.full((B, K), -1, dtype=np.int64)
         self.due = np.full((B, K), -np.inf)
         self.force = np.zeros((B, K), dtype=bool)
@@ -175,6 +136,6 @@ class RealisticChannel:
 
 def make_channel(params: BatchParams) -> Channel:
     """The V2X channel of a batch: `IdealChannel` when every variant with V2X on uses an ideal channel."""
-    if all(not s.v2x.enabled or s.v2x.channel_spec.is_ideal for s in params.scenarios):
+    if params.channel.ideal.all():
         return IdealChannel()
     return RealisticChannel()

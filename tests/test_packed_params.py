@@ -1,0 +1,82 @@
+"""After packing, the engine's parameters hold plain arrays and values only: no pydantic model, no Scenario."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+
+import numpy as np
+import pytest
+from pydantic import BaseModel
+
+from vrusim.engine.simulate import simulate
+from vrusim.metrics.summary import summary_rows
+from vrusim.paper.cases import paper_scenarios
+from vrusim.sim.params import BatchParams, pack
+
+
+def _models_inside(value, where: str = "params") -> list[str]:
+    """Paths of every pydantic model reachable from `value` (dataclass fields, mappings, sequences)."""
+    if isinstance(value, BaseModel):
+        return [where]
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return [
+            p for f in dataclasses.fields(value) for p in _models_inside(getattr(value, f.name), f"{where}.{f.name}")
+        ]
+    if isinstance(value, Mapping):
+        return [p for k, v in value.items() for p in _models_inside(v, f"{where}[{k!r}]")]
+    if isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.dtype == object):
+        return [p for i, v in enumerate(value) for p in _models_inside(v, f"{where}[{i}]")]
+    return []
+
+
+@pytest.fixture(scope="module")
+def realistic():
+    """The paper's cases with V2X on over a lossy, late channel and a noisy, late sensor, AEB parameters given."""
+    scenarios = []
+    for _, v2x, scenario in paper_scenarios():
+        if not v2x:
+            continue
+        data = scenario.model_dump()
+        data["v2x"]["channel"] = "lossy"
+        data["sensor"].update(latency_s=0.1, detection_probability=0.9, position_sigma_m=0.2)
+        data["planner"] = {"name": "aeb", "params": {"warning_ttc_s": 2.2}}
+        scenarios.append(type(scenario).model_validate(data))
+    return scenarios
+
+
+def test_batch_params_keep_no_scenario_and_no_pydantic_model(realistic):
+    assert "scenarios" not in {field.name for field in dataclasses.fields(BatchParams)}
+    assert _models_inside(pack(realistic)) == []
+
+
+def test_the_probe_finds_a_model_where_there_is_one(realistic):
+    """The check above can fail: a model hidden in a field is found."""
+    params = dataclasses.replace(pack(realistic), planner_params=[{"nested": realistic[0].sensor}] * 3)
+    assert _models_inside(params) == ["params.planner_params[0]['nested']"] + [
+        f"params.planner_params[{i}]['nested']" for i in (1, 2)
+    ]
+
+
+def test_planner_params_are_read_only_copies(realistic):
+    params = pack(realistic)
+    assert params.planner_params[0] == {"warning_ttc_s": 2.2}
+    with pytest.raises(TypeError):
+        params.planner_params[0]["warning_ttc_s"] = 9.0  # type: ignore[index]
+    assert params.names == [s.name for s in realistic]
+    assert params.score_profiles == [s.metrics.profile for s in realistic]
+
+
+def test_packed_settings_follow_the_scenarios(realistic):
+    params = pack(realistic)
+    assert params.sensor.latency_steps.tolist() == [10, 10, 10]  # 0.1 s at dt 0.01 s
+    assert not params.sensor.ideal.any() and not params.channel.ideal.any()
+    assert params.channel.cfg.shape[0] == params.size == 3
+
+
+def test_a_run_from_packed_params_equals_a_run_from_scenarios(realistic):
+    """The engine needs nothing but the packed parameters (realistic sensor and channel, AEB parameters)."""
+    from_scenarios = summary_rows(simulate(realistic))
+    from_params = summary_rows(simulate(pack(realistic)))
+    assert from_params == from_scenarios
+    assert [row["planner"] for row in from_params] == ["aeb"] * 3
