@@ -7,12 +7,15 @@ from collections.abc import Mapping
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pydantic import BaseModel
 
 from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
 from vrusim.paper.cases import paper_scenarios
 from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.sensing.sensor_params import frame_steps, is_ideal, latency_steps, pack_sensor
 
 
 def _models_inside(value, where: str = "params") -> list[str]:
@@ -80,3 +83,33 @@ def test_a_run_from_packed_params_equals_a_run_from_scenarios(realistic):
     from_params = summary_rows(simulate(pack(realistic)))
     assert from_params == from_scenarios
     assert [row["planner"] for row in from_params] == ["aeb"] * 3
+
+
+@settings(deadline=None, max_examples=60)
+@given(
+    st.lists(
+        st.fixed_dictionaries(
+            {
+                "latency_s": st.floats(0.0, 0.5),
+                "frame_rate_hz": st.none() | st.floats(0.5, 200.0),
+                "detection_probability": st.sampled_from([1.0, 0.999, 0.5]),
+                "position_sigma_m": st.sampled_from([0.0, 0.1]),
+                "velocity_sigma_mps": st.sampled_from([0.0, 0.1]),
+            }
+        ),
+        min_size=1,
+        max_size=6,
+    ),
+    st.sampled_from([0.01, 0.02, 0.005, 0.1]),
+)
+def test_packed_sensor_settings_equal_the_per_scenario_rules(sensors, dt_s):
+    """`pack_sensor` works on arrays; each row equals `latency_steps`, `frame_steps` and `is_ideal` of its scenario."""
+    base = paper_scenarios()[0][2].model_dump()
+    scenarios = []
+    for sensor in sensors:
+        data = base | {"sensor": base["sensor"] | sensor, "sim": base["sim"] | {"dt_s": dt_s}}
+        scenarios.append(type(paper_scenarios()[0][2]).model_validate(data))
+    packed = pack_sensor(scenarios)
+    assert packed.latency_steps.tolist() == [latency_steps(s) for s in scenarios]
+    assert packed.frame_steps.tolist() == [frame_steps(s) for s in scenarios]
+    assert packed.ideal.tolist() == [is_ideal(s) for s in scenarios]

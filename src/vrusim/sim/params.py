@@ -117,6 +117,65 @@ class BatchParams:
         return self.vru_valid.shape[1]
 
 
+_NO_PARAMETERS: Mapping[str, Any] = MappingProxyType({})
+
+
+_SCALARS = (bool, int, float, str, type(None))
+
+
+def _read_only(given: Mapping[str, Any]) -> Mapping[str, Any]:
+    """A read-only copy of a scenario's `planner.params` (nested lists and mappings copied too)."""
+    if not given:
+        return _NO_PARAMETERS
+    flat = all(isinstance(value, _SCALARS) for value in given.values())
+    return MappingProxyType(dict(given) if flat else copy.deepcopy(dict(given)))
+
+
+_SCALAR_NAMES = (
+    "fov_deg", "max_steer_deg", "wheelbase_m", "duration_s", "half_length_m", "half_width_m", "rear_to_centre_m",
+    "rear_to_front_m", "cruise_speed_mps", "start_speed_mps", "max_accel_mps2", "max_decel_mps2", "max_jerk_mps3",
+    "lag_s", "lateral_gain", "heading_gain", "route_length_m", "sensor_range_m", "rsu_x_m", "rsu_y_m",
+    "comm_range_m", "coverage_range_m",
+)  # fmt: skip
+
+
+def _scalars(s: Scenario) -> tuple[float, ...]:
+    """One scenario's scalar settings, in `_SCALAR_NAMES` order (SI units; degrees where named)."""
+    ego, sensor, v2x = s.ego, s.sensor, s.v2x
+    rsu = v2x.rsu
+    return (
+        sensor.fov_deg,
+        ego.max_steer_deg,
+        ego.wheelbase_m,
+        s.sim.duration_s,
+        ego.length_m / 2,
+        ego.width_m / 2,
+        # a reversing ego is packed mirrored front to back: its "rear" axle and overhang trail in the motion
+        ego.length_m / 2 - ego.trailing_overhang_m,
+        ego.length_m - ego.trailing_overhang_m,
+        ego.cruise_speed_mps,
+        ego.start_speed_mps,
+        ego.max_accel_mps2,
+        ego.max_decel_mps2,
+        ego.max_jerk_mps3 or math.inf,
+        ego.actuator_lag_s,
+        ego.tracking.lateral_gain_per_m2,
+        ego.tracking.heading_gain_per_m,
+        ego.route.length_m,
+        sensor.effective_range_m,
+        rsu.x_m if rsu else 0.0,
+        rsu.y_m if rsu else 0.0,
+        v2x.comm_range_m,
+        v2x.coverage_range_m,
+    )
+
+
+def _scalar_columns(scenarios: list[Scenario]) -> dict[str, np.ndarray]:
+    """`_scalars` of every scenario as float columns [B] (each its own C-contiguous array), read in one pass."""
+    table = np.array([_scalars(s) for s in scenarios], dtype=float).reshape(len(scenarios), len(_SCALAR_NAMES))
+    return {name: np.ascontiguousarray(table[:, j]) for j, name in enumerate(_SCALAR_NAMES)}
+
+
 def _unique_rows(specs: list) -> tuple[list, np.ndarray]:
     rows: dict = {}
     index = np.array([rows.setdefault(spec, len(rows)) for spec in specs], dtype=np.int64)
@@ -133,12 +192,11 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     B = len(scenarios)
     K = max(len(s.vrus) for s in scenarios)
 
-    def ego_array(getter) -> np.ndarray:
-        return np.array([float(getter(s)) for s in scenarios])
+    scalars = _scalar_columns(scenarios)
 
     route_specs, route_rows = _unique_rows([ego_route_spec(s.ego) for s in scenarios])
     routes = PathTable(route_specs)
-    half_fov = np.radians(ego_array(lambda s: s.sensor.fov_deg)) / 2
+    half_fov = np.radians(scalars["fov_deg"]) / 2
 
     vru_valid = np.zeros((B, K), dtype=bool)
     vru_type = np.zeros((B, K), dtype=object)
@@ -186,13 +244,13 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     vru_paths = PathTable(unique_paths)
     vru_rows = unique_index[path_index]
 
-    max_steer = np.radians(ego_array(lambda s: s.ego.max_steer_deg))
-    wheelbase = ego_array(lambda s: s.ego.wheelbase_m)
-    duration = ego_array(lambda s: s.sim.duration_s)
+    max_steer = np.radians(scalars["max_steer_deg"])
+    wheelbase = scalars["wheelbase_m"]
+    duration = scalars["duration_s"]
     return BatchParams(
         names=[s.name for s in scenarios],
         planner_names=[s.planner.name for s in scenarios],
-        planner_params=[MappingProxyType(copy.deepcopy(dict(s.planner.params))) for s in scenarios],
+        planner_params=[_read_only(s.planner.params) for s in scenarios],
         score_profiles=[s.metrics.profile for s in scenarios],
         dt_s=dt,
         n_steps=math.ceil(duration.max() / dt - 1e-9),
@@ -200,35 +258,34 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         seed=np.array([s.sim.seed for s in scenarios], dtype=np.int64),
         stop_on_collision=np.array([s.sim.stop_on_collision for s in scenarios]),
         stop_at_route_end=np.array([s.sim.stop_at_route_end for s in scenarios]),
-        half_length_m=ego_array(lambda s: s.ego.length_m / 2),
-        half_width_m=ego_array(lambda s: s.ego.width_m / 2),
+        half_length_m=scalars["half_length_m"],
+        half_width_m=scalars["half_width_m"],
         wheelbase_m=wheelbase,
-        # a reversing ego is packed mirrored front to back: its "rear" axle and overhang trail in the motion
-        rear_to_centre_m=ego_array(lambda s: s.ego.length_m / 2 - s.ego.trailing_overhang_m),
-        rear_to_front_m=ego_array(lambda s: s.ego.length_m - s.ego.trailing_overhang_m),
-        cruise_speed_mps=ego_array(lambda s: s.ego.cruise_speed_mps),
-        start_speed_mps=ego_array(lambda s: s.ego.start_speed_mps),
-        max_accel_mps2=ego_array(lambda s: s.ego.max_accel_mps2),
-        max_decel_mps2=ego_array(lambda s: s.ego.max_decel_mps2),
-        max_jerk_mps3=ego_array(lambda s: s.ego.max_jerk_mps3 or math.inf),
-        lag_s=ego_array(lambda s: s.ego.actuator_lag_s),
+        rear_to_centre_m=scalars["rear_to_centre_m"],
+        rear_to_front_m=scalars["rear_to_front_m"],
+        cruise_speed_mps=scalars["cruise_speed_mps"],
+        start_speed_mps=scalars["start_speed_mps"],
+        max_accel_mps2=scalars["max_accel_mps2"],
+        max_decel_mps2=scalars["max_decel_mps2"],
+        max_jerk_mps3=scalars["max_jerk_mps3"],
+        lag_s=scalars["lag_s"],
         max_curvature_per_m=np.tan(max_steer) / wheelbase,
-        lateral_gain=ego_array(lambda s: s.ego.tracking.lateral_gain_per_m2),
-        heading_gain=ego_array(lambda s: s.ego.tracking.heading_gain_per_m),
+        lateral_gain=scalars["lateral_gain"],
+        heading_gain=scalars["heading_gain"],
         routes=routes,
         route_offset=route_rows * routes.width,
-        route_length_m=ego_array(lambda s: s.ego.route.length_m),
+        route_length_m=scalars["route_length_m"],
         sensor_enabled=np.array([s.sensor.enabled for s in scenarios]),
-        sensor_range_m=ego_array(lambda s: s.sensor.effective_range_m),
+        sensor_range_m=scalars["sensor_range_m"],
         sensor_cos_half=np.cos(half_fov),
         sensor_sin_half=np.sin(half_fov),
         obstacles=pack_obstacles([s.obstacles for s in scenarios]),
         sensor=pack_sensor(scenarios),
         v2x_enabled=np.array([s.v2x.enabled for s in scenarios]),
-        rsu_x_m=ego_array(lambda s: s.v2x.rsu.x_m if s.v2x.rsu else 0.0),
-        rsu_y_m=ego_array(lambda s: s.v2x.rsu.y_m if s.v2x.rsu else 0.0),
-        comm_range_m=ego_array(lambda s: s.v2x.comm_range_m),
-        coverage_range_m=ego_array(lambda s: s.v2x.coverage_range_m),
+        rsu_x_m=scalars["rsu_x_m"],
+        rsu_y_m=scalars["rsu_y_m"],
+        comm_range_m=scalars["comm_range_m"],
+        coverage_range_m=scalars["coverage_range_m"],
         channel=pack_channel(scenarios, dt),
         vru_valid=vru_valid,
         vru_type=vru_type,

@@ -60,12 +60,33 @@ class SensorParams:
 
 
 def pack_sensor(scenarios: Sequence[Scenario]) -> SensorParams:
-    """The sensor settings of `scenarios`, one row per scenario."""
+    """The sensor settings of `scenarios` (one time step), one row per scenario; the same rules as
+    `latency_steps`, `frame_steps` and `is_ideal`, on arrays (the same floating-point operations)."""
+    dt = scenarios[0].sim.dt_s
+    raw = np.array(
+        [
+            (
+                s.sensor.latency_s,
+                math.nan if s.sensor.frame_rate_hz is None else s.sensor.frame_rate_hz,
+                s.sensor.detection_probability,
+                s.sensor.position_sigma_m,
+                s.sensor.velocity_sigma_mps,
+            )
+            for s in scenarios
+        ],
+        dtype=float,
+    ).reshape(len(scenarios), 5)
+    latency_s, rate_hz, probability, position_sigma, velocity_sigma = raw.T
+    latency = np.floor(latency_s / dt + 0.5 + 1e-9).astype(np.int64)
+    with np.errstate(invalid="ignore"):
+        frame = np.where(np.isnan(rate_hz), 1, np.maximum(1, np.floor(1.0 / rate_hz / dt + 0.5 + 1e-9)))
+    frame = frame.astype(np.int64)
+    exact = (probability == 1.0) & (position_sigma == 0.0) & (velocity_sigma == 0.0)
     return SensorParams(
-        ideal=np.array([is_ideal(s) for s in scenarios], dtype=bool),
-        latency_steps=np.array([latency_steps(s) for s in scenarios], dtype=np.int64),
-        frame_steps=np.array([frame_steps(s) for s in scenarios], dtype=np.int64),
-        detection_probability=np.array([s.sensor.detection_probability for s in scenarios], dtype=float),
-        position_sigma_m=np.array([s.sensor.position_sigma_m for s in scenarios], dtype=float),
-        velocity_sigma_mps=np.array([s.sensor.velocity_sigma_mps for s in scenarios], dtype=float),
+        ideal=exact & (latency == 0) & (frame == 1),
+        latency_steps=latency,
+        frame_steps=frame,
+        detection_probability=probability.copy(),
+        position_sigma_m=position_sigma.copy(),
+        velocity_sigma_mps=velocity_sigma.copy(),
     )

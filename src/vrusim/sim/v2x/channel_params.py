@@ -72,28 +72,41 @@ class ChannelParams:
 
 
 def pack_channel(scenarios: Sequence[Scenario], dt_s: float) -> ChannelParams:
-    """The V2X channel settings of `scenarios` (time step `dt_s`), one row per scenario."""
-    specs = [s.v2x.channel_spec for s in scenarios]
-    unique: dict[ChannelSpec, tuple[int, int, np.ndarray, tuple[float, ...]]] = {}
-    rows = [unique[spec] if spec in unique else unique.setdefault(spec, channel_config(spec, dt_s)) for spec in specs]
-    capacity = {spec: queue_capacity(spec, dt_s) for spec in unique}
-    B = len(scenarios)
-    loss_params = np.zeros((B, max(1, *(len(r[3]) for r in rows))))
-    for b, r in enumerate(rows):
-        loss_params[b, : len(r[3])] = r[3]
+    """The V2X channel settings of `scenarios` (time step `dt_s`), one row per scenario. Each distinct spec is
+    packed once and its row copied to the variants that use it (a spec object is often shared by many)."""
+    specs: list[ChannelSpec] = []  # the distinct specs, in order of first use
+    position: dict[ChannelSpec, int] = {}
+    by_object: dict[int, int] = {}
+    variant_row = np.empty(len(scenarios), dtype=np.int64)
+    enabled = np.empty(len(scenarios), dtype=bool)
+    for b, scenario in enumerate(scenarios):
+        v2x = scenario.v2x
+        spec = v2x.channel_spec
+        row = by_object.get(id(spec))
+        if row is None:
+            row = position.get(spec)
+            if row is None:
+                row = position[spec] = len(specs)
+                specs.append(spec)
+            by_object[id(spec)] = row
+        variant_row[b], enabled[b] = row, v2x.enabled
+    configs = [channel_config(spec, dt_s) for spec in specs]
+    loss_params = np.zeros((len(specs), max(1, *(len(c[3]) for c in configs))))
     most = max(len(spec.outages) for spec in specs)
-    outage_start, outage_end = np.zeros((B, most)), np.zeros((B, most))
-    for b, spec in enumerate(specs):
+    outage_start, outage_end = np.zeros((len(specs), most)), np.zeros((len(specs), most))
+    for row, (spec, config) in enumerate(zip(specs, configs, strict=True)):
+        loss_params[row, : len(config[3])] = config[3]
         for i, outage in enumerate(spec.outages):
-            outage_start[b, i], outage_end[b, i] = outage.start_s, outage.end_s
+            outage_start[row, i], outage_end[row, i] = outage.start_s, outage.end_s
+    ideal = np.array([spec.is_ideal for spec in specs], dtype=bool)
     return ChannelParams(
-        ideal=np.array([not s.v2x.enabled or spec.is_ideal for s, spec in zip(scenarios, specs, strict=True)]),
-        mode=np.array([r[0] for r in rows], dtype=np.int8),
-        loss_model=np.array([r[1] for r in rows], dtype=np.int8),
-        cfg=np.stack([r[2] for r in rows]),
-        loss_params=loss_params,
-        outage_start_s=outage_start,
-        outage_end_s=outage_end,
-        outage_count=np.array([len(spec.outages) for spec in specs], dtype=np.int64),
-        queue_capacity=np.array([capacity[spec] for spec in specs], dtype=np.int64),
+        ideal=~enabled | ideal[variant_row],
+        mode=np.array([c[0] for c in configs], dtype=np.int8)[variant_row],
+        loss_model=np.array([c[1] for c in configs], dtype=np.int8)[variant_row],
+        cfg=np.stack([c[2] for c in configs])[variant_row],
+        loss_params=loss_params[variant_row],
+        outage_start_s=outage_start[variant_row],
+        outage_end_s=outage_end[variant_row],
+        outage_count=np.array([len(spec.outages) for spec in specs], dtype=np.int64)[variant_row],
+        queue_capacity=np.array([queue_capacity(spec, dt_s) for spec in specs], dtype=np.int64)[variant_row],
     )
