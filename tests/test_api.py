@@ -90,9 +90,11 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
         "run": "function",
         "register_loss_model": "function",
         "register_metric": "function",
+        "register_vru_motion": "function",
         "run_sweep": "function",
         "unregister_loss_model": "function",
         "unregister_metric": "function",
+        "unregister_vru_motion": "function",
     }
 
 

@@ -37,7 +37,7 @@ def test_the_point_mass_model_is_registered_and_packs_a_vru(make_scenario):
 
 
 def test_packing_uses_the_registered_entry(make_scenario, monkeypatch):
-    monkeypatch.setitem(registry._ENTRIES, POINT_MASS, registry.VruMotionEntry(POINT_MASS, _fixed))
+    monkeypatch.setitem(registry._ENTRIES, POINT_MASS, registry.VruMotionEntry(POINT_MASS, _fixed, None))
     batch = pack([make_scenario()])
     packed = (
         batch.vru_top_speed_mps, batch.vru_max_accel_mps2, batch.vru_tau_s, batch.vru_initial_speed_mps,

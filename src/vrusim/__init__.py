@@ -20,6 +20,7 @@ if _typing.TYPE_CHECKING:
     from vrusim.metrics.catalog import Metric, register_metric, unregister_metric
     from vrusim.scenario.schema import Scenario
     from vrusim.sim.v2x.loss.registry import register_loss_model, unregister_loss_model
+    from vrusim.sim.vru.registry import register_vru_motion, unregister_vru_motion
 
 __all__ = [
     "Metric",
@@ -34,10 +35,12 @@ __all__ = [
     "open_sweep",
     "register_loss_model",
     "register_metric",
+    "register_vru_motion",
     "run",
     "run_sweep",
     "unregister_loss_model",
     "unregister_metric",
+    "unregister_vru_motion",
 ]
 
 _HOME = {
@@ -48,6 +51,8 @@ _HOME = {
     "unregister_metric": "vrusim.metrics.catalog",
     "register_loss_model": "vrusim.sim.v2x.loss.registry",
     "unregister_loss_model": "vrusim.sim.v2x.loss.registry",
+    "register_vru_motion": "vrusim.sim.vru.registry",
+    "unregister_vru_motion": "vrusim.sim.vru.registry",
 }
 """Where the public names that are not the API's own live (every other one: vrusim.api)."""
 

@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from vrusim.engine.accumulators import RunMetrics
+from vrusim.errors import UserInputError
 from vrusim.geometry.contact import clearance_batch
 from vrusim.geometry.ttc import ttc_batch
 from vrusim.kernels import njit
@@ -30,7 +31,8 @@ from vrusim.sim.sensing.sensor_model import SensorModel, make_sensor_model
 from vrusim.sim.state import EgoState, initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import make_channel
 from vrusim.sim.v2x.messages import Channel, rsu_broadcast
-from vrusim.sim.vru.motion import advance_vrus
+from vrusim.sim.vru import motion as _point_mass_step  # noqa: F401  (attaches the built-in model's step)
+from vrusim.sim.vru.registry import vru_motion
 
 
 class StopReason(IntEnum):
@@ -117,6 +119,7 @@ class BatchStepper:
         self.ego = initial_ego(params)
         self.vrus = initial_vrus(params)
         self.active = np.ones(params.size, dtype=bool)
+        self._advance_vrus = _vru_step(params)
         self.step_index = 0
         self.detected = self.source = None
         self._front: tuple[np.ndarray, np.ndarray] | None = None
@@ -168,7 +171,7 @@ class BatchStepper:
         front_x, front_y = self._front
         self._front = None
         moving_before = ego.speed_mps > 0.0
-        advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps, ego.station_m)
+        self._advance_vrus(params, vrus, t, front_x, front_y, ego.speed_mps, ego.station_m)
         advance_egos(params, ego, command)
         self.step_index += 1
         t_next = self.step_index * params.dt_s
@@ -218,6 +221,14 @@ class BatchStepper:
         if self.work is not self.metrics:
             self.metrics.merge(self.work)
         return self.metrics
+
+
+def _vru_step(params: BatchParams):
+    """The step of the batch's VRU motion model; a model registered without one is a UserInputError."""
+    advance = vru_motion(params.vru_motion).advance
+    if advance is None:
+        raise UserInputError(f"vrus[].motion: VRU motion model {params.vru_motion!r} has no step (`advance`)")
+    return advance
 
 
 @njit(cache=True, _nrt=False)

@@ -315,6 +315,9 @@ class Vru(StrictModel):
     radius_m: float | None = Field(None, gt=0)
     speed_time_constant_s: float = Field(0.0, ge=0, description="relaxation time toward top speed; 0: none")
     trigger: Trigger = Trigger(at_time_s=0.0)
+    motion: str = Field(
+        "point_mass", min_length=1, description="VRU motion model by name (vrusim.sim.vru.registry); one per batch"
+    )
 
     @model_validator(mode="after")
     def _one_path(self) -> Self:

@@ -25,7 +25,7 @@ from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
 from vrusim.sim.sensing.sensor_params import SensorParams, pack_sensor
 from vrusim.sim.v2x.channel_params import ChannelParams, pack_channel
 from vrusim.sim.vru.point_mass import POINT_MASS
-from vrusim.sim.vru.registry import vru_motion
+from vrusim.sim.vru.registry import vru_motion, vru_motion_entries
 
 TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
 _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
@@ -47,6 +47,8 @@ class BatchParams:
     """Each variant's `planner.params` as written (read-only mappings); the planner validates them at `reset`."""
     score_profiles: list[str]
     """Each variant's score profile name (`metrics.profile`)."""
+    vru_motion: str
+    """The VRU motion model every VRU of the batch moves by (`vrus[k].motion`, `vrusim.sim.vru.registry`)."""
     dt_s: float
     n_steps: int
     duration_s: np.ndarray
@@ -176,6 +178,25 @@ def _scalar_columns(scenarios: list[Scenario]) -> dict[str, np.ndarray]:
     return {name: np.ascontiguousarray(table[:, j]) for j, name in enumerate(_SCALAR_NAMES)}
 
 
+def _batch_motion(scenarios: list[Scenario]) -> str:
+    """The one VRU motion model of a batch (`point_mass` without VRUs); an unknown model, or several in one batch,
+    is a UserInputError naming the field."""
+    used: dict[str, str] = {}
+    for scenario in scenarios:
+        for k, vru in enumerate(scenario.vrus):
+            used.setdefault(vru.motion, f"{scenario.name}: vrus[{k}].motion")
+    known = vru_motion_entries()
+    for name, where in used.items():
+        if name not in known:
+            raise UserInputError(f"{where}: unknown VRU motion model {name!r}; expected one of: {', '.join(known)}")
+    if len(used) > 1:
+        raise UserInputError(
+            f"vrus[].motion: one batch moves all its VRUs by one motion model, got {', '.join(sorted(used))}; "
+            "run them as separate batches"
+        )
+    return next(iter(used), POINT_MASS)
+
+
 def _unique_rows(specs: list) -> tuple[list, np.ndarray]:
     rows: dict = {}
     index = np.array([rows.setdefault(spec, len(rows)) for spec in specs], dtype=np.int64)
@@ -204,7 +225,8 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     brake_after = np.full((B, K), math.inf)
     numeric["rad"][:] = 0.1
     trigger_kind = np.zeros((B, K), dtype=np.int8)
-    pack_motion = vru_motion(POINT_MASS).pack
+    motion = _batch_motion(scenarios)
+    pack_motion = vru_motion(motion).pack
     path_specs: list = []
     path_index = np.zeros((B, K), dtype=np.int64)
     for b, scenario in enumerate(scenarios):
@@ -252,6 +274,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         planner_names=[s.planner.name for s in scenarios],
         planner_params=[_read_only(s.planner.params) for s in scenarios],
         score_profiles=[s.metrics.profile for s in scenarios],
+        vru_motion=motion,
         dt_s=dt,
         n_steps=math.ceil(duration.max() / dt - 1e-9),
         duration_s=duration,

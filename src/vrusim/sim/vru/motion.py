@@ -20,6 +20,7 @@ from vrusim.geometry.path_table import locate_point
 from vrusim.kernels import batch_kernel, prange
 from vrusim.sim.params import TRIGGER_DISTANCE, TRIGGER_ROUTE, TRIGGER_TIME, BatchParams
 from vrusim.sim.state import VruState
+from vrusim.sim.vru.registry import POINT_MASS, attach_vru_step
 
 
 def advance_vrus(
@@ -126,3 +127,6 @@ def _advance(
             px, py, tx, ty, _ = locate_point(path, offsets[b, k], station[b, k])
             kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
             kin[4, b, k], kin[5, b, k] = accel * tx, accel * ty
+
+
+attach_vru_step(POINT_MASS, advance_vrus)

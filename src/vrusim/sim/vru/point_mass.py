@@ -1,4 +1,5 @@
-"""The built-in VRU motion model, `point_mass`: its per-VRU parameters (the step: `vrusim.sim.vru.motion`).
+"""The built-in VRU motion model, `point_mass`: its per-VRU parameters (its step, `vrusim.sim.vru.motion`, is
+attached to the same entry when that module is imported: it needs the packed batch, which needs this module).
 
 A path-constrained point mass driven toward its top speed (docs/models.md, "VRU model"): top speed, maximum
 acceleration and speed time constant, the speed held before the trigger, and an optional braking phase.

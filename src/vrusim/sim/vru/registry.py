@@ -1,9 +1,10 @@
-"""VRU motion models by name: each model's packing of one scenario VRU into its per-VRU motion parameters.
+"""VRU motion models by name: how a model packs one scenario VRU, and how it moves a batch's VRUs one step.
 
-`vrusim.sim.vru.point_mass` registers the built-in, `point_mass` (the path-constrained point mass the paper and
-Euro NCAP describe; its step is the compiled kernel in `vrusim.sim.vru.motion`). Packing (`vrusim.sim.params.pack`)
-asks the registry for the model's entry and never reads the motion fields of a VRU itself
-(docs/models.md, "VRU model").
+A scenario VRU names its model in `vrus[k].motion` (default `point_mass`). `vrusim.sim.vru.point_mass` registers
+the built-in, `point_mass` (the path-constrained point mass the paper and Euro NCAP describe; its step is the
+compiled kernel in `vrusim.sim.vru.motion`). Packing (`vrusim.sim.params.pack`) asks the registry for each VRU's
+model and never reads the motion fields of a VRU itself; the engine steps a batch's VRUs with its model's
+`advance` (one model per batch). See docs/models.md, "VRU model".
 """
 
 from __future__ import annotations
@@ -14,8 +15,13 @@ from typing import NamedTuple
 
 from vrusim.scenario.schema import Vru
 
+AdvanceVrus = Callable[..., None]
+"""`advance(params: BatchParams, vrus: VruState, t_s, front_x_m, front_y_m, ego_speed_mps, ego_station_m)`: fire
+triggers from the ego state at t_s, then move every VRU of the batch by one step, in place (arrays [B]; `vrus`
+[B, K]). Written without the types: this module sits below the packed batch (`vrusim.sim.params` imports it)."""
+
 POINT_MASS = "point_mass"
-"""The built-in model, and the one every VRU moves by."""
+"""The built-in model, and the default of `vrus[k].motion`."""
 
 
 class VruMotionRow(NamedTuple):
@@ -34,21 +40,31 @@ class VruMotionRow(NamedTuple):
 
 @dataclass(frozen=True)
 class VruMotionEntry:
-    """A registered VRU motion model: its name and how a scenario VRU packs into a `VruMotionRow`."""
+    """A registered VRU motion model: its name, how a scenario VRU packs into a `VruMotionRow`, and its step."""
 
     name: str
     pack: Callable[[Vru], VruMotionRow]
+    advance: AdvanceVrus | None
+    """None until the step is attached (`attach_vru_step`; the built-in's module does it when imported)."""
 
 
 _ENTRIES: dict[str, VruMotionEntry] = {}
 
 
-def register_vru_motion(name: str, pack: Callable[[Vru], VruMotionRow]) -> VruMotionEntry:
-    """Add VRU motion model `name`; return its entry. `unregister_vru_motion(name)` removes it."""
+def register_vru_motion(
+    name: str, pack: Callable[[Vru], VruMotionRow], advance: AdvanceVrus | None = None
+) -> VruMotionEntry:
+    """Add VRU motion model `name` (`pack` one VRU, `advance` a batch's VRUs one step); return its entry.
+    `unregister_vru_motion(name)` removes it."""
     if name in _ENTRIES:
         raise ValueError(f"VRU motion model {name!r} is already registered")
-    _ENTRIES[name] = VruMotionEntry(name, pack)
+    _ENTRIES[name] = VruMotionEntry(name, pack, advance)
     return _ENTRIES[name]
+
+
+def attach_vru_step(name: str, advance: AdvanceVrus) -> None:
+    """Give registered model `name` its step (for a model whose step module imports the packed batch)."""
+    _ENTRIES[name] = VruMotionEntry(name, vru_motion(name).pack, advance)
 
 
 def unregister_vru_motion(name: str) -> None:
