@@ -190,3 +190,20 @@ def test_rgb_array_frames_follow_the_episode_at_a_fixed_size():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # advice only, as above
         check_env(gymnasium.make("vrusim/PaperEscooter-v0", render_mode="rgb_array").unwrapped)
+
+
+def test_a_registered_metric_is_in_the_episode_summary():
+    """A plug-in metric (tests/extra_metric.py) reaches `info["metrics"]` without a change to the Gym."""
+    import extra_metric
+
+    extra_metric.register()
+    try:
+        env = VruEnv("paper:pedestrian", v2x=True)
+        env.reset(seed=3)
+        terminated = truncated = False
+        while not (terminated or truncated):
+            _, _, terminated, truncated, info = env.step(np.array([0.0], dtype=np.float32))
+    finally:
+        extra_metric.unregister()
+    assert set(info["metrics"]) == {*SUMMARY_COLUMNS, "mean_speed_mps", "stopped_at_end"}
+    assert isinstance(info["metrics"]["stopped_at_end"], bool) and info["metrics"]["mean_speed_mps"] > 0

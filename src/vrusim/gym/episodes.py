@@ -9,12 +9,25 @@ import numpy as np
 from vrusim.gym.features import observation_vectors
 from vrusim.gym.reward import RewardModel, RewardWeights
 from vrusim.gym.stepper import EpisodeStepper
-from vrusim.metrics.columns import FLOAT_COLUMNS, SCORE_COLUMNS, result_columns
+from vrusim.metrics.catalog import is_builtin, metrics
+from vrusim.metrics.columns import result_columns
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
-SUMMARY_COLUMNS = ("collided", *FLOAT_COLUMNS, *SCORE_COLUMNS)
-"""Result columns reported in `info["metrics"]` when an episode ends (`vrusim.metrics.columns`)."""
+
+def summary_columns() -> tuple[str, ...]:
+    """Result columns reported in `info["metrics"]` when an episode ends: `collided`, the float measures, every
+    bool or numeric measure a plug-in registered (`vrusim.register_metric`), then the scores."""
+    measures = [
+        m.name
+        for m in metrics()
+        if m.group == "measure" and (m.dtype == "float64" or (m.dtype != "string" and not is_builtin(m.name)))
+    ]
+    return ("collided", *measures, *(m.name for m in metrics() if m.group == "score"))
+
+
+SUMMARY_COLUMNS = summary_columns()
+"""The built-in columns of `summary_columns` (plug-in metrics add theirs once registered)."""
 
 
 class EpisodeBatch:
@@ -52,7 +65,7 @@ class EpisodeBatch:
     def summary(self, b: int) -> dict[str, Any]:
         """Result columns of variant b after its episode ended (floats; NaN: absent)."""
         assert self.columns is not None
-        return {name: _scalar(self.columns[name][b]) for name in SUMMARY_COLUMNS}
+        return {name: _scalar(self.columns[name][b]) for name in summary_columns()}
 
 
 def _scalar(value: Any) -> Any:
