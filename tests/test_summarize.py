@@ -499,3 +499,28 @@ def test_cli_plot_with_json_prints_only_json(results, tmp_path):
     assert result.exit_code == 0, result.output
     strict_json(result.stdout)
     assert imread(out).shape[2] in (3, 4)
+
+
+def test_two_long_grouping_parameters_fit_80_columns(tmp_path):
+    """Two grouping parameters share one numbered column, long dotted paths break at dots and underscores, bin ranges
+    wrap at spaces, and a metric table still too wide leaves out p5 / p95 and says so: nothing is cut with "…"."""
+    from typer.testing import CliRunner
+
+    from vrusim.cli.app import app
+
+    chunks = synthetic_chunks()
+    long_names = {SPEED: "ego.tracking.heading_gain_per_m", WALK: "v2x.channel.loss.probability"}
+    renamed = [{long_names.get(name, name): values for name, values in chunk.items()} for chunk in chunks]
+    directory = write_results(tmp_path / "r", renamed, list(long_names.values()))
+    by = ",".join(long_names.values())
+    result = CliRunner().invoke(app, ["summarize", str(directory), "--by", by, "--bins", "3"], env={"COLUMNS": "80"})
+    assert result.exit_code == 0, result.output
+    assert "…" not in result.output
+    assert max(len(line) for line in result.output.splitlines()) <= 80
+    for word in ("1: ego.", "heading_", "gain_per_m", "2: v2x.", "probability", "P(collision)", "95 % interval"):
+        assert word in result.output, word
+    assert " – " in result.output  # a bin's range, spaced so that it can wrap
+    assert "p95" in result.output and "widen the terminal" not in result.output
+    narrow = CliRunner().invoke(app, ["summarize", str(directory), "--by", by, "--bins", "3"], env={"COLUMNS": "64"})
+    assert "p5 and p95: widen the terminal, or --json" in narrow.output and "…" not in narrow.output
+    assert max(len(line) for line in narrow.output.splitlines()) <= 64

@@ -22,7 +22,8 @@ def _word_and_line(console: Console, column: Column) -> tuple[int, int]:
     return max(m.minimum for m in measures), max(m.maximum for m in measures)
 
 
-def _natural_width(table: Table, console: Console) -> int:
+def natural_width(table: Table, console: Console) -> int:
+    """The width `table` takes without wrapping, in characters."""
     return console.measure(table, options=console.options.update_width(NATURAL_WIDTH)).maximum
 
 
@@ -31,7 +32,7 @@ def _narrow(table: Table, console: Console, ranges: list[tuple[int, int]], free:
     widths on the table and return the width still missing (0: it fits)."""
     for index in free:
         table.columns[index].width = None
-    excess = _natural_width(table, console) - console.width
+    excess = natural_width(table, console) - console.width
     widths = [line for _, line in ranges]
     while excess > 0:
         candidates = [index for index in free if widths[index] > ranges[index][0]]
@@ -49,7 +50,7 @@ def fit_table(table: Table, console: Console) -> Table:
     """Narrow the wrappable columns of `table` until it fits `console` (the widest first, none below its longest
     word); if that is not enough, one space between columns instead of two and none at the edges. A table that
     still cannot fit is left to Rich. Returns `table`."""
-    if _natural_width(table, console) <= console.width:
+    if natural_width(table, console) <= console.width:
         return table
     ranges = [_word_and_line(console, column) for column in table.columns]
     free = [

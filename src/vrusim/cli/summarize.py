@@ -7,9 +7,11 @@ from typing import Annotated, Any
 
 import typer
 from rich import box
+from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from vrusim.cli.fit import fit_table, natural_width
 from vrusim.cli.options import JsonOption, split_names
 from vrusim.cli.output import console, print_json, user_errors
 
@@ -17,8 +19,13 @@ _STAT_TITLES = {"count": "n", "mean": "mean", "std": "std", "min": "min", "p5": 
                 "p95": "p95", "max": "max"}  # fmt: skip
 
 
-def _num(value: float | None) -> str:
-    return "–" if value is None else f"{value:.4g}"
+_HEADER_LINE = 12
+"""A parameter name longer than this is broken at its dots in a column header."""
+
+
+def _num(value: float | None, digits: int = 4) -> str:
+    """`value` to `digits` significant digits; "–" when absent."""
+    return "–" if value is None else f"{value:.{digits}g}"
 
 
 def _key_text(value: Any) -> str:
@@ -26,20 +33,63 @@ def _key_text(value: Any) -> str:
     if value is None:
         return "null"
     if isinstance(value, dict):
-        return f"{value['low']:.4g}–{value['high']:.4g} (≈{value['centre']:.4g})"
+        return f"{value['low']:.4g} – {value['high']:.4g} (≈{value['centre']:.4g})"  # spaces: it may wrap
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
+def _header_lines(name: str) -> str:
+    """`name` on lines of at most about `_HEADER_LINE` characters: broken after its dots, and a segment that is
+    still longer after its underscores (`v2x.` / `channel.` / `latency_s`; `heading_` / `gain_per_m`)."""
+    if len(name) <= _HEADER_LINE:
+        return name
+    lines = []
+    for segment in name.replace(".", ".\n").split("\n"):
+        if len(segment) <= _HEADER_LINE:
+            lines.append(segment)
+            continue
+        line = ""
+        for part in segment.replace("_", "_\n").split("\n"):
+            if line and len(line) + len(part) > _HEADER_LINE:
+                lines.append(line)
+                line = ""
+            line += part
+        lines.append(line)
+    return "\n".join(lines)
+
+
 def _by_header(described: dict[str, Any]) -> str:
-    name = escape(described["name"])
-    return f"{name}\n{len(described['edges']) - 1} equal-width bins" if described["binned"] else name
+    """A grouping parameter's column header; a long dotted path on several lines (`_header_lines`), so that two
+    of them still leave room for the numbers at 80 columns."""
+    header = escape(_header_lines(described["name"]))
+    return f"{header}\n{len(described['edges']) - 1} bins" if described["binned"] else header
+
+
+def _add_key_columns(table: Table, by: list[dict[str, Any]]) -> None:
+    """The grouping columns: one per parameter; with two or more, one column listing them numbered (1:, 2:, ...),
+    which leaves room for the numbers at 80 columns whatever the parameter names."""
+    if len(by) < 2:
+        for described in by:
+            table.add_column(_by_header(described))
+        return
+    names = []
+    for index, described in enumerate(by, start=1):
+        lines = _header_lines(described["name"]).split("\n")
+        if described["binned"]:
+            lines.append(f"({len(described['edges']) - 1} bins)")
+        names.append(escape(f"{index}: " + "\n".join(lines)))
+    table.add_column("\n".join(names))
+
+
+def _key_cells(key: dict[str, Any], by: list[dict[str, Any]]) -> list[str]:
+    """A group's cells in the grouping columns (`_add_key_columns`)."""
+    texts = [escape(_key_text(key[d["name"]])) for d in by]
+    return texts if len(by) < 2 else ["\n".join(f"{i}: {text}" for i, text in enumerate(texts, start=1))]
 
 
 def outcome_table(summary: dict[str, Any]) -> Table:
     """Runs, collisions, P(collision) and its Wilson 95 % interval: one row per group (or overall)."""
     table = Table(title="Collisions (Wilson 95 % interval)", box=box.SIMPLE_HEAD, title_justify="left")
-    for described in summary["by"]:
-        table.add_column(_by_header(described))
+    _add_key_columns(table, summary["by"])
     for name in ("Runs", "Collisions", "P(collision)", "95 % interval"):
         table.add_column(name, justify="right", no_wrap=True)
     rows = summary["groups"] if summary["by"] else [summary["overall"]]
@@ -48,7 +98,7 @@ def outcome_table(summary: dict[str, Any]) -> Table:
         probability = row["collision_probability"]
         style = "red" if row["collisions"] else "green"
         table.add_row(
-            *(escape(_key_text(row["key"][d["name"]])) for d in summary["by"]),
+            *_key_cells(row.get("key", {}), summary["by"]),
             str(row["runs"]),
             f"[{style}]{row['collisions']}[/]",
             _num(probability),
@@ -57,33 +107,46 @@ def outcome_table(summary: dict[str, Any]) -> Table:
     return table
 
 
-def metric_tables(summary: dict[str, Any]) -> list[Table]:
-    """Without groups one table, a row per metric; with groups one table per metric, a row per group."""
+_DROPPED_WHEN_NARROW = ("p5", "p95")
+"""Statistics a grouped metric table leaves out when the terminal is too narrow for all of them (in --json)."""
+
+
+def _grouped_table(summary: dict[str, Any], metric: str, stats_names: list[str]) -> Table:
+    table = Table(title=escape(metric), box=box.SIMPLE_HEAD, title_justify="left")
+    _add_key_columns(table, summary["by"])
+    for name in stats_names:
+        table.add_column(_STAT_TITLES[name], justify="right", no_wrap=True)
+    for group in summary["groups"]:
+        stats = group["metrics"][metric]
+        table.add_row(
+            *_key_cells(group["key"], summary["by"]),
+            *(str(stats[s]) if s == "count" else _num(stats[s]) for s in stats_names),
+        )
+    return table
+
+
+def metric_tables(summary: dict[str, Any], terminal: Console | None = None) -> list[Table]:
+    """Without groups one table, a row per metric; with groups one table per metric, a row per group. A grouped
+    table too wide for `terminal` even when fitted leaves out p5 and p95 (and says so)."""
     if not summary["metrics"]:
         return []
     if not summary["by"]:
         table = Table(title="Metrics (all runs)", box=box.SIMPLE_HEAD, title_justify="left")
         table.add_column("Metric", no_wrap=True)
         for title in _STAT_TITLES.values():
-            table.add_column(title, justify="right")
+            table.add_column(title, justify="right", no_wrap=True)
         for metric in summary["metrics"]:
             stats = summary["overall"]["metrics"][metric]
             table.add_row(escape(metric), str(stats["count"]), *(_num(stats[s]) for s in list(_STAT_TITLES)[1:]))
         return [table]
     tables = []
     for metric in summary["metrics"]:
-        table = Table(title=escape(metric), box=box.SIMPLE_HEAD, title_justify="left")
-        for described in summary["by"]:
-            table.add_column(_by_header(described))
-        for title in _STAT_TITLES.values():
-            table.add_column(title, justify="right")
-        for group in summary["groups"]:
-            stats = group["metrics"][metric]
-            table.add_row(
-                *(escape(_key_text(group["key"][d["name"]])) for d in summary["by"]),
-                str(stats["count"]),
-                *(_num(stats[s]) for s in list(_STAT_TITLES)[1:]),
-            )
+        table = _grouped_table(summary, metric, list(_STAT_TITLES))
+        if terminal is not None and natural_width(fit_table(table, terminal), terminal) > terminal.width:
+            narrow = [name for name in _STAT_TITLES if name not in _DROPPED_WHEN_NARROW]
+            table = _grouped_table(summary, metric, narrow)
+            table.caption = "p5 and p95: widen the terminal, or --json"
+            table.caption_justify = "left"
         tables.append(table)
     return tables
 
@@ -163,7 +226,7 @@ def summarize_command(
     colour = "yellow" if summary["chunks"]["partial"] else "green"
     out.print(f"[bold]{escape(str(title))}[/]: {summary['overall']['runs']} runs from [{colour}]{summary['status']}[/]")
     out.print(outcome_table(summary))
-    for table in metric_tables(summary):
+    for table in metric_tables(summary, out):
         out.print(table)
     if plot is not None:
         out.print(f"Plot written to {escape(str(plot))}.")
