@@ -17,7 +17,7 @@ import numpy as np
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.stepper import BatchStepper
 from vrusim.errors import UserInputError
-from vrusim.planners.base import Planner, planner_mode, planner_mode_names, planner_warning
+from vrusim.planners.base import Planner, PlannerBase, planner_mode, planner_mode_names, planner_warning
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import compactable
@@ -67,15 +67,16 @@ def simulate(
     stepper = BatchStepper(batch, len(mode_names), channel)
     recorder = TraceRecorder() if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
+    declared = isinstance(planner, PlannerBase)  # declares mode and warning: read them directly (a hot loop)
     for _ in range(batch.n_steps):
         observation = stepper.observe()
         work, active = stepper.work, stepper.active
-        old_mode = planner_mode(planner)
+        old_mode = planner.mode if declared else planner_mode(planner)
         old_mode = None if old_mode is None else old_mode.copy()
         command = _checked_command(planner.act(observation), stepper.params.size, planner_name)
         if old_mode is not None:
-            work.record_modes(observation.t_s, active, old_mode, planner_mode(planner))
-        warning = planner_warning(planner)
+            work.record_modes(observation.t_s, active, old_mode, planner.mode if declared else planner_mode(planner))
+        warning = planner.warning if declared else planner_warning(planner)
         if warning is not None:
             work.record_warning(observation.t_s, active, warning)
         running = stepper.advance(command).running
