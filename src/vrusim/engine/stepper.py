@@ -52,11 +52,12 @@ _COLLISION, _ROUTE_END, _TIME_UP = int(StopReason.COLLISION), int(StopReason.ROU
 
 
 class StepOutcome(NamedTuple):
-    """What the stop rules decided in one step, per working-set variant (a named tuple: cheap to make per step)."""
+    """What the stop rules decided in one step, per working-set variant. A step in which no variant stopped
+    returns a shared outcome whose `reason` is read-only zeros (no allocation in the common case)."""
 
     reason: np.ndarray
     """`StopReason` code per variant [B] (int8): why it stopped in this step, 0 (`RUNNING`) if it did not
-    (still running, or stopped before this step)."""
+    (still running, or stopped before this step). Read-only; a step's own array, kept valid after later steps."""
     running: int
     """How many variants of the working set still run."""
 
@@ -79,6 +80,10 @@ class _Scratch:
     """Clearance, outline x, outline y [3, B, K], m."""
     ttc: np.ndarray
     """Time to collision per VRU [B, K], s."""
+    reason: np.ndarray
+    """The stop-rule kernel's output [B] (int8), copied into a `StepOutcome` when a variant stopped."""
+    no_stop: np.ndarray
+    """The `StepOutcome.reason` of a step in which no variant stopped: zeros [B], read-only, shared."""
 
 
 def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
@@ -95,6 +100,8 @@ def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
         np.zeros(params.size),
         np.full((3, *shape), np.inf),  # before the first step: no contact known
         np.full(shape, np.inf),
+        np.zeros(params.size, dtype=np.int8),
+        _read_only(np.zeros(params.size, dtype=np.int8)),
     )
 
 
@@ -120,10 +127,13 @@ class BatchStepper:
         self.vrus = initial_vrus(params)
         self.active = np.ones(params.size, dtype=bool)
         self._advance_vrus = _vru_step(params)
+        self._n_steps = params.n_steps
         self.step_index = 0
         self.detected = self.source = None
         self._front: tuple[np.ndarray, np.ndarray] | None = None
         self._scratch = _scratch(params, self.ego)
+        self._quiet = StepOutcome(self._scratch.no_stop, params.size)
+        """The outcome of a step in which no variant stopped (reused while the running count stays the same)."""
 
     @property
     def t_s(self) -> float:
@@ -188,10 +198,10 @@ class BatchStepper:
         clearance, outline_x, outline_y = scratch.contact
         work = self.work
         work.record_step(t_next, self.active, ego, moving_before, clearance, outline_x, outline_y, scratch.ttc, vrus)
-        reason = np.empty(params.size, dtype=np.int8)
+        reason = scratch.reason
         running = _update_active(
             t_next,
-            self.step_index >= self.batch.n_steps,
+            self.step_index >= self._n_steps,
             self.active,
             reason,
             params.stop_on_collision,
@@ -200,7 +210,10 @@ class BatchStepper:
             work.travel_time_s,
             params.duration_s,
         )
-        return StepOutcome(reason, running)
+        if running == self._quiet.running:  # nobody stopped: the same outcome as the last quiet step
+            return self._quiet
+        self._quiet = StepOutcome(scratch.no_stop, running)
+        return StepOutcome(_read_only(reason.copy()), running)
 
     def compact(self) -> np.ndarray:
         """Drop the stopped variants from the working set (their results are final); return the kept rows of
@@ -214,6 +227,7 @@ class BatchStepper:
         self.work = self.work.subset(keep, self.params)
         self.active = np.ones(keep.size, dtype=bool)
         self._scratch = _scratch(self.params, self.ego)
+        self._quiet = StepOutcome(self._scratch.no_stop, keep.size)
         return keep
 
     def finish(self) -> RunMetrics:
