@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -15,7 +16,7 @@ from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
 from vrusim.paper.cases import paper_scenarios
 from vrusim.sim.params import BatchParams, pack
-from vrusim.sim.sensing.sensor_params import frame_steps, is_ideal, latency_steps, pack_sensor
+from vrusim.sim.sensing.sensor_params import pack_sensor
 
 
 def _models_inside(value, where: str = "params") -> list[str]:
@@ -103,13 +104,23 @@ def test_a_run_from_packed_params_equals_a_run_from_scenarios(realistic):
     st.sampled_from([0.01, 0.02, 0.005, 0.1]),
 )
 def test_packed_sensor_settings_equal_the_per_scenario_rules(sensors, dt_s):
-    """`pack_sensor` works on arrays; each row equals `latency_steps`, `frame_steps` and `is_ideal` of its scenario."""
+    """`pack_sensor` works on arrays; each row equals the documented per-scenario rule (docs/models.md, "Sensor
+    model"), written here with Python floats: L = round(latency / dt), F = max(1, round(1 / (rate dt))), halves
+    up; ideal = exact reports, L = 0 and F = 1."""
+
+    def steps(duration_s: float) -> int:
+        return math.floor(duration_s / dt_s + 0.5 + 1e-9)
+
     base = paper_scenarios()[0][2].model_dump()
     scenarios = []
     for sensor in sensors:
         data = base | {"sensor": base["sensor"] | sensor, "sim": base["sim"] | {"dt_s": dt_s}}
         scenarios.append(type(paper_scenarios()[0][2]).model_validate(data))
     packed = pack_sensor(scenarios)
-    assert packed.latency_steps.tolist() == [latency_steps(s) for s in scenarios]
-    assert packed.frame_steps.tolist() == [frame_steps(s) for s in scenarios]
-    assert packed.ideal.tolist() == [is_ideal(s) for s in scenarios]
+    latency = [steps(s.sensor.latency_s) for s in scenarios]
+    frame = [1 if s.sensor.frame_rate_hz is None else max(1, steps(1.0 / s.sensor.frame_rate_hz)) for s in scenarios]
+    exact = [s.sensor.detection_probability == 1.0 and s.sensor.position_sigma_m == s.sensor.velocity_sigma_mps == 0.0
+             for s in scenarios]  # fmt: skip
+    assert packed.latency_steps.tolist() == latency
+    assert packed.frame_steps.tolist() == frame
+    assert packed.ideal.tolist() == [e and lat == 0 and f == 1 for e, lat, f in zip(exact, latency, frame, strict=True)]

@@ -79,3 +79,18 @@ def test_gym_episodes_end_with_the_engine_s_reasons(batch):
         truncated |= step.truncated
     assert list(reasons) == [StopReason.COLLISION, StopReason.ROUTE_END, StopReason.TIME_UP]
     assert list(terminated) == [True, True, False] and list(truncated) == [False, False, True]
+
+
+def test_outcomes_stay_valid_after_later_steps_and_are_read_only(batch):
+    """Quiet steps share one outcome of zeros; a stopping step's reasons are its own copy, never overwritten."""
+    stepper, outcomes = BatchStepper(batch), []
+    while not outcomes or outcomes[-1].running:
+        stepper.observe()
+        outcomes.append(stepper.advance(np.zeros(batch.size)))
+    stops = [o for o in outcomes if o.stopped.any()]
+    assert [list(o.reason) for o in stops] == [[0, 0, StopReason.TIME_UP], [0, StopReason.ROUTE_END, 0],
+                                               [StopReason.COLLISION, 0, 0]]  # fmt: skip
+    assert all(not o.reason.any() for o in outcomes if not o.stopped.any())
+    for outcome in outcomes:
+        with pytest.raises(ValueError, match="read-only"):
+            outcome.reason[0] = 1

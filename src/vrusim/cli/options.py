@@ -108,15 +108,9 @@ def split_names(values: list[str] | str | None, option: str) -> list[str]:
 
 def planner_names(values: list[str] | None, option: str = "--planner") -> list[str]:
     """The planners given to --planner, each checked (an unknown one is a user error naming `option`)."""
-    from vrusim.planners.registry import make_planner
+    from vrusim.api.settings import check_planner
 
-    names = split_names(values, option)
-    for name in names:
-        try:
-            make_planner(name)
-        except UserInputError as error:
-            raise UserInputError(str(error).replace("planner.name:", f"{option}:", 1)) from None
-    return names
+    return [check_planner(name, option) for name in split_names(values, option)]
 
 
 def one_planner(values: list[str] | None, command: str) -> str | None:

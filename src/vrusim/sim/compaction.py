@@ -17,8 +17,6 @@ from typing import Any
 
 import numpy as np
 
-from vrusim.sim.params import BatchParams
-
 _CONSTANTS = (int, float, bool, str, np.generic, type(None))
 
 
@@ -73,11 +71,6 @@ def take_members(owner: object, index: np.ndarray) -> None:
     _check_sizes(owner, members, index)
     for name, value in members.items():
         setattr(owner, name, _member(owner, name, value, index))
-
-
-def take_params(params: BatchParams, index: np.ndarray) -> BatchParams:
-    """The parameters of variants `index`; path tables are shared (variants address them by offset)."""
-    return take(params, index)
 
 
 def compactable(*parts: object) -> bool:

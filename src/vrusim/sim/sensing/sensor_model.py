@@ -161,7 +161,7 @@ def _observe(
 
 
 def all_ideal(params: BatchParams) -> bool:
-    """Whether every variant's sensor is ideal (`is_ideal`)."""
+    """Whether every variant's sensor is ideal (`SensorParams.ideal`)."""
     return bool(params.sensor.ideal.all())
 
 

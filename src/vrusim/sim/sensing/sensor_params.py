@@ -14,31 +14,10 @@ import numpy as np
 from vrusim.scenario.schema import Scenario
 
 
-def whole_steps(duration_s: float, dt_s: float) -> int:
-    """A duration in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt)."""
-    return math.floor(duration_s / dt_s + 0.5 + 1e-9)
-
-
-def latency_steps(scenario: Scenario) -> int:
-    """The scenario's sensor latency L in whole steps of its `sim.dt_s`."""
-    return whole_steps(scenario.sensor.latency_s, scenario.sim.dt_s)
-
-
-def frame_steps(scenario: Scenario) -> int:
-    """The scenario's sensor frame period F in whole steps (at least 1; 1 without `frame_rate_hz`)."""
-    rate = scenario.sensor.frame_rate_hz
-    return 1 if rate is None else max(1, whole_steps(1.0 / rate, scenario.sim.dt_s))
-
-
-def is_ideal(scenario: Scenario) -> bool:
-    """Whether the scenario's sensor reports every visible VRU at once and exactly (lighting aside)."""
-    sensor = scenario.sensor
-    exact = sensor.detection_probability == 1.0 and sensor.position_sigma_m == 0.0 and sensor.velocity_sigma_mps == 0.0
-    if not exact:
-        return False
-    if sensor.latency_s == 0.0 and sensor.frame_rate_hz is None:  # the defaults: no rounding to do
-        return True
-    return latency_steps(scenario) == 0 and frame_steps(scenario) == 1
+def whole_steps(duration_s: float | np.ndarray, dt_s: float) -> np.ndarray:
+    """Durations in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt); floats
+    or arrays (int64)."""
+    return np.floor(np.asarray(duration_s, dtype=float) / dt_s + 0.5 + 1e-9).astype(np.int64)
 
 
 @dataclass(frozen=True)
@@ -46,7 +25,8 @@ class SensorParams:
     """Sensor-model settings per variant [B]."""
 
     ideal: np.ndarray
-    """Whether the variant's sensor is ideal (`is_ideal`), bool."""
+    """Whether the variant's sensor is ideal, bool: it detects every visible VRU at once and exactly (latency 0 steps,
+    frame period 1 step, detection probability 1, no noise; lighting aside)."""
     latency_steps: np.ndarray
     """Detection latency L, whole steps (int64)."""
     frame_steps: np.ndarray
@@ -60,8 +40,8 @@ class SensorParams:
 
 
 def pack_sensor(scenarios: Sequence[Scenario]) -> SensorParams:
-    """The sensor settings of `scenarios` (one time step), one row per scenario; the same rules as
-    `latency_steps`, `frame_steps` and `is_ideal`, on arrays (the same floating-point operations)."""
+    """The sensor settings of `scenarios` (one time step), one row per scenario: latency L = `whole_steps`
+    (latency_s), frame period F = max(1, `whole_steps`(1 / frame_rate_hz)) or 1 without a frame rate."""
     dt = scenarios[0].sim.dt_s
     raw = np.array(
         [
@@ -77,10 +57,9 @@ def pack_sensor(scenarios: Sequence[Scenario]) -> SensorParams:
         dtype=float,
     ).reshape(len(scenarios), 5)
     latency_s, rate_hz, probability, position_sigma, velocity_sigma = raw.T
-    latency = np.floor(latency_s / dt + 0.5 + 1e-9).astype(np.int64)
+    latency = whole_steps(latency_s, dt)
     with np.errstate(invalid="ignore"):
-        frame = np.where(np.isnan(rate_hz), 1, np.maximum(1, np.floor(1.0 / rate_hz / dt + 0.5 + 1e-9)))
-    frame = frame.astype(np.int64)
+        frame = np.where(np.isnan(rate_hz), 1, np.maximum(1, whole_steps(1.0 / rate_hz, dt)))
     exact = (probability == 1.0) & (position_sigma == 0.0) & (velocity_sigma == 0.0)
     return SensorParams(
         ideal=exact & (latency == 0) & (frame == 1),
