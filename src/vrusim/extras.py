@@ -38,6 +38,10 @@ EXTRAS: dict[str, Extra] = {
         {"scenariogeneration": "scenariogeneration", "commonroad": "commonroad-io", "shapely": "shapely"},
     ),
     "gym": Extra("vrusim.gym (the Gymnasium environments)", {"gymnasium": "gymnasium"}),
+    "ncap2026": Extra(
+        "Euro NCAP 2026 predictions and official scoring (vrusim ncap --predictions)",
+        {"euroncap_rating_2026": "euroncap-rating-2026"},
+    ),
     "dask": Extra("--scheduler (a Dask cluster)", {"dask": "dask", "distributed": "distributed"}),
     "video": Extra("an MP4 animation", {"imageio_ffmpeg": "imageio-ffmpeg"}),
     "pandas": Extra("to_pandas()", {"pandas": "pandas"}),
