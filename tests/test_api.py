@@ -353,7 +353,7 @@ def test_euro_ncap_subset_equals_the_command_line():
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [
-        ({"scenarios": "XYZ"}, "scenarios: unknown catalogue entry 'XYZ'"),
+        ({"scenarios": "XYZ"}, "scenarios: unknown 2023 catalogue entry 'XYZ'"),
         ({"planner": "warp-drive"}, "planner: "),
         ({"v2x": "typical"}, "v2x: expected on or off"),
         ({"night": "yes"}, "night: expected True or False"),

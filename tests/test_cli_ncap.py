@@ -10,8 +10,8 @@ import pyarrow.parquet as pq
 import pytest
 
 from cli_helpers import assert_user_error, invoke
+from vrusim.ncap.editions.v2023 import SCENARIOS
 from vrusim.ncap.grid import select
-from vrusim.ncap.protocol import SCENARIOS
 
 
 @pytest.fixture(scope="module")

@@ -347,7 +347,7 @@ def _assert_fits(text: str, headers: list[str], columns: int = 80) -> None:
 
 
 def test_list_at_80_columns_shows_every_header_and_code():
-    from vrusim.ncap.protocol import SCENARIOS
+    from vrusim.ncap.editions.v2023 import SCENARIOS
 
     result = _invoke_at(80, "list")
     assert result.exit_code == 0, result.output

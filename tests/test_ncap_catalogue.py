@@ -16,8 +16,8 @@ from vrusim.engine.simulate import simulate
 from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
 from vrusim.ncap.assess import assess
 from vrusim.ncap.build import build_test
+from vrusim.ncap.editions.v2023 import SCENARIOS
 from vrusim.ncap.grid import run_tests, select
-from vrusim.ncap.protocol import SCENARIOS
 from vrusim.scenario.routes import ego_route_spec
 
 TOLERANCE_M = 0.05

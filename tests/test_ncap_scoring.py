@@ -277,7 +277,7 @@ def test_docs_list_every_points_entry():
 def test_points_table_matches_the_catalogue():
     """Cell counts and (scenario, lighting) pairs come from the protocol tables: every catalogue pair is
     scored and every scored pair exists in the catalogue."""
-    from vrusim.ncap.protocol import BY_CODE, SCENARIOS
+    from vrusim.ncap.scoring import BY_CODE, SCENARIOS
 
     catalogue = {(spec.code, lighting) for spec in SCENARIOS for lighting in spec.lighting}
     assert set(SCENARIO_POINTS) == catalogue

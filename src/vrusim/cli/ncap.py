@@ -45,6 +45,20 @@ GEOMETRY_LABELS = {
 GEOMETRY_UNITS = {"headway_s": " s", "target_decel_mps2": " m/s²"}
 
 
+def protocol_option() -> typer.models.OptionInfo:
+    """`--protocol EDITION`: which Euro NCAP edition's tables (ncap/editions)."""
+    from vrusim.ncap.editions import DEFAULT_EDITION, EDITION_NAMES
+
+    return typer.Option(
+        "--protocol",
+        help=f"Euro NCAP edition: {' or '.join(EDITION_NAMES)} (default {DEFAULT_EDITION}).",
+        metavar="EDITION",
+    )
+
+
+ProtocolOption = Annotated[str | None, protocol_option()]
+
+
 # ----------------------------------------------------------------------------------------------- vrusim list
 
 
@@ -67,9 +81,9 @@ def _geometry_text(geometry: dict) -> str:
     return turn + ", ".join(parts)
 
 
-def _grid_table(rows: list[dict]) -> Table:
+def _grid_table(rows: list[dict], title: str) -> Table:
     """Per scenario: function, targets and speeds, impact location, lighting, test count."""
-    table = Table(title="Euro NCAP AEB VRU catalogue (v4.5.1)", box=box.SIMPLE_HEAD, title_justify="left")
+    table = Table(title=title, box=box.SIMPLE_HEAD, title_justify="left")
     for name in ("Code", "Function", "Target", "Target\nkm/h", "VUT\nkm/h", "Impact\nat %", "Light", "Tests"):
         table.add_column(name, justify="right" if name == "Tests" else "left")
     for row in rows:
@@ -104,16 +118,19 @@ def _details_table(rows: list[dict]) -> Table:
     return table
 
 
-def list_command(as_json: JsonOption = False) -> None:
-    """Show every Euro NCAP catalogue entry with its parameters and flags."""
-    from vrusim.ncap.listing import catalogue_listing
+def list_command(protocol: ProtocolOption = None, as_json: JsonOption = False) -> None:
+    """Show every Euro NCAP catalogue entry of an edition with its parameters and flags."""
+    with user_errors():
+        from vrusim.ncap.editions import edition
+        from vrusim.ncap.listing import catalogue_listing
 
-    rows = catalogue_listing()
+        book = edition(protocol)
+        rows = catalogue_listing(book.name)
     if as_json:
         print_json(rows)
         return
     out = console()
-    out.print(_grid_table(rows))
+    out.print(_grid_table(rows, book.title))
     out.print(_details_table(rows))
     out.print(f"{len(rows)} scenarios, {sum(r['tests'] for r in rows)} tests (day and night).")
 
@@ -126,6 +143,7 @@ def ncap_command(
         list[str] | None,
         typer.Option("--scenario", help="Catalogue code or prefix (repeatable), e.g. CPNA-25, CPTA, CB. Default: all."),
     ] = None,
+    protocol: ProtocolOption = None,
     planner: Annotated[list[str] | None, planner_option("fsm")] = None,
     v2x: Annotated[V2XSwitch, v2x_switch_option("Roadside unit on or off.")] = V2XSwitch.off,
     night: Annotated[bool, typer.Option("--night", help="Also run the night variants.")] = False,
@@ -140,10 +158,10 @@ def ncap_command(
         from vrusim.ncap.grid import run_tests, select
 
         chosen = one_planner(planner, "ncap") or "fsm"
+        tests = select(scenario or [], night=night, protocol=protocol)
         if out is not None:
             _prepare_out(out, force)
         check_report_option(report)
-        tests = select(scenario or [], night=night)
         started = time.perf_counter()
         result = run_tests(tests, planner=chosen, v2x=v2x == V2XSwitch.on)
         elapsed = time.perf_counter() - started

@@ -69,6 +69,8 @@ class NcapTest:
     spec: NcapScenario
     cell: Cell
     lighting: str
+    protocol: str
+    """The edition the scenario comes from (ncap/editions)."""
 
     @property
     def test_id(self) -> str:

@@ -9,35 +9,38 @@ from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import BuiltTest, NcapTest, build_test
-from vrusim.ncap.protocol import KPH, SCENARIOS, NcapScenario
+from vrusim.ncap.editions import edition
+from vrusim.ncap.protocol import KPH, NcapScenario
 from vrusim.planners.base import planner_warning
 from vrusim.planners.registry import make_planner
 
 
-def scenario_codes() -> list[str]:
-    """Every catalogue scenario code, in catalogue order."""
-    return [s.code for s in SCENARIOS]
+def scenario_codes(protocol: str | None = None) -> list[str]:
+    """Every scenario code of an edition (default: the default edition), in table order."""
+    return list(edition(protocol).codes)
 
 
-def select(codes: Sequence[str] | None = None, night: bool = False) -> list[NcapTest]:
-    """The tests of the chosen scenarios (all when `codes` is empty): every cell, day, plus night if asked.
+def select(codes: Sequence[str] | None = None, night: bool = False, protocol: str | None = None) -> list[NcapTest]:
+    """The tests of the chosen scenarios of an edition (all when `codes` is empty): every cell, day, plus
+    night if asked. `protocol` names the edition (ncap/editions; default: the default edition).
 
-    A code selects every scenario whose code starts with it, ignoring case: `CPNA-25` one scenario, `CPTA`
-    the four CPTA scenarios, `CMRs` both CMRs rows, `CB` every cyclist scenario.
+    A code selects every scenario whose code starts with it, ignoring case: in 2023, `CPNA-25` one scenario,
+    `CPTA` the four CPTA scenarios, `CMRs` both CMRs rows, `CB` every cyclist scenario.
     """
+    book = edition(protocol)
     chosen: list[NcapScenario] = []
     for code in codes or []:
         wanted = code.strip().upper()
-        matches = [s for s in SCENARIOS if s.code.upper().startswith(wanted)] if wanted else []
+        matches = [s for s in book.scenarios if s.code.upper().startswith(wanted)] if wanted else []
         if not matches:
             raise UserInputError(
-                f"--scenario: unknown catalogue entry {code!r}; expected one of: {', '.join(scenario_codes())}"
+                f"--scenario: unknown {book.name} catalogue entry {code!r}; expected one of: {', '.join(book.codes)}"
             )
         chosen.extend(m for m in matches if m not in chosen)
-    specs = chosen or list(SCENARIOS)
+    specs = chosen or list(book.scenarios)
     lightings = ("day", "night") if night else ("day",)
     return [
-        NcapTest(spec, cell, lighting)
+        NcapTest(spec, cell, lighting, book.name)
         for spec in specs
         for lighting in lightings
         if lighting in spec.lighting
@@ -71,6 +74,7 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
         rows.append(
             {
                 "test_id": test.test_id,
+                "protocol": test.protocol,
                 "scenario": test.spec.code,
                 "group": test.spec.group,
                 "function": test.spec.function,

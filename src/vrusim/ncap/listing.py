@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from vrusim.ncap.protocol import DUMMIES, SCENARIOS, NcapScenario
+from vrusim.ncap.editions import edition
+from vrusim.ncap.protocol import DUMMIES, NcapScenario
 
 
 def _target_speeds(spec: NcapScenario) -> list[float] | str:
@@ -13,10 +14,11 @@ def _target_speeds(spec: NcapScenario) -> list[float] | str:
                    for c in spec.cells})  # fmt: skip
 
 
-def catalogue_listing() -> list[dict]:
-    """One row per catalogue scenario: its parameters, geometry (non-zero fields) and UNVERIFIED flags."""
+def catalogue_listing(protocol: str | None = None) -> list[dict]:
+    """One row per scenario of an edition (default: the default edition): its parameters, geometry
+    (non-zero fields) and UNVERIFIED flags."""
     rows = []
-    for s in SCENARIOS:
+    for s in edition(protocol).scenarios:
         targets = sorted({c.target or s.target for c in s.cells})
         locations = sorted({c.impact_location if c.impact_location is not None else s.impact_location for c in s.cells})
         geometry = {

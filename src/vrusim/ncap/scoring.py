@@ -11,7 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from vrusim.ncap.protocol import BY_CODE, SCENARIOS
+from vrusim.ncap.editions.v2023 import SCENARIOS
+
+BY_CODE = {spec.code: spec for spec in SCENARIOS}
 
 COLOURS = ("green", "yellow", "orange", "brown", "red")
 """Euro NCAP result colours, best first."""
