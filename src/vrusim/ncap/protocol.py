@@ -121,8 +121,9 @@ class Cell:
     target: str | None = None
     impact_location: float | None = None
     target_speed_kph: float | None = None
-    range: Literal["standard", "extended"] = "standard"
-    """Grid range the cell belongs to (2026: FC26 §3 grid colours, the official calculator's EXTENDED_RANGE_CELLS)."""
+    range: Literal["standard", "extended", "robustness"] = "standard"
+    """What the cell belongs to (2026: the standard or extended range of FC26 §3, the official calculator's
+    EXTENDED_RANGE_CELLS, or a robustness layer). 2023 cells are all "standard"."""
     function: Function | None = None
     """The cell's function when it differs from its scenario's (2026: FCW rows inside an AEB grid)."""
 
@@ -169,6 +170,9 @@ class NcapScenario:
     headway_s: float = 0.0
     target_decel_mps2: float = 0.0
     extension: bool = False
+    official: str = ""
+    """2026: the official calculator's scenario name; "{lighting}" in it stands for the test's lighting
+    (e.g. "CPNA {lighting}" -> "CPNA day"). Empty: not scored by the calculator (2023, extensions)."""
     unverified: tuple[str, ...] = ()
     sources: str = ""
     tags: tuple[str, ...] = field(default=())
