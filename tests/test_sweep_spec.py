@@ -251,8 +251,20 @@ def test_preflight_rows_cover_extremes_and_every_discrete_value():
     assert plan.variants - 1 in rows and len(rows) < 30
 
 
+def test_catalogue_protocol_selects_the_edition_and_names_itself_when_unknown():
+    data = {"catalogue": {"scenarios": ["CPRA-Cs"], "protocol": "2023"}, "parameters": {}}
+    plan = make_plan(spec_from_mapping(data, "spec.yaml", Path(".")))
+    assert len(plan.tests) == 6
+    data["catalogue"]["protocol"] = "1999"
+    with pytest.raises(UserInputError, match=r"catalogue\.protocol: unknown edition '1999'"):
+        make_plan(spec_from_mapping(data, "spec.yaml", Path(".")))
+
+
 def test_catalogue_base_adds_the_test_dimension():
-    data = {"catalogue": {"scenarios": ["CPNA-25"]}, "parameters": {"vrus[0].top_speed_mps": [1.0, 2.0]}}
+    data = {
+        "catalogue": {"scenarios": ["CPNA-25"], "protocol": "2023"},
+        "parameters": {"vrus[0].top_speed_mps": [1.0, 2.0]},
+    }
     plan = make_plan(spec_from_mapping(data, "spec.yaml", Path(".")))
     design = make_design(plan)
     tests = list(plan.tests)

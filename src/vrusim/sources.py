@@ -4,7 +4,8 @@ A scenario SOURCE is
 - a YAML file path;
 - a bundled scenario by name: `paper:<case>` (pedestrian, escooter, motorcyclist) or `example:<name>`;
 - a catalogue test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with
-  `night`) or `all`.
+  `night`) or `all`; looked up in the default Euro NCAP edition first, then the others; `2023:` or `2026:` in
+  front names the edition (`2023:CPNA-25/20kph/day`).
 A sweep SPEC is a YAML file or a bundled spec by name (`example:<name>`). `bundled()` lists every name; they
 resolve inside an installed wheel too (`vrusim.io.bundled`). An unknown name is a user error that suggests close
 names.
@@ -117,26 +118,43 @@ def is_scenario_file(source: str) -> bool:
     return True
 
 
+def _editions_to_search(source: str) -> tuple[list[str], str]:
+    """(edition names to look in, in order; SOURCE without its `EDITION:` prefix)."""
+    from vrusim.ncap.editions import DEFAULT_EDITION, EDITION_NAMES
+
+    prefix, colon, rest = source.strip().partition(":")
+    if colon and prefix in EDITION_NAMES:
+        return [prefix], rest.strip()
+    return [DEFAULT_EDITION, *(name for name in EDITION_NAMES if name != DEFAULT_EDITION)], source.strip()
+
+
 def catalogue_tests(source: str, night: bool) -> list[NcapTest]:
-    """The catalogue tests SOURCE names (empty when it names none)."""
+    """The catalogue tests SOURCE names in the first edition that has them (empty when none does)."""
     from vrusim.ncap.grid import select
 
-    wanted = source.strip()
-    try:
-        if wanted.lower() == "all":
-            return select(night=night)
-        if "/" in wanted:
-            return [t for t in select([wanted.split("/")[0]], night=True) if t.test_id.lower() == wanted.lower()]
-        return select([wanted], night=night)
-    except UserInputError:  # an unknown code
-        return []
+    editions, wanted = _editions_to_search(source)
+    for protocol in editions:
+        try:
+            if wanted.lower() == "all":
+                return select(night=night, protocol=protocol)
+            if "/" in wanted:
+                code = wanted.split("/")[0]
+                found = [t for t in select([code], True, protocol) if t.test_id.lower() == wanted.lower()]
+            else:
+                found = select([wanted], night=night, protocol=protocol)
+        except UserInputError:  # an unknown code in this edition
+            continue
+        if found:
+            return found
+    return []
 
 
 def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> UserInputError:
     """The error for a SOURCE that names nothing: what was expected, and the closest names, catalogue ids or codes."""
+    from vrusim.ncap.editions import EDITION_NAMES
     from vrusim.ncap.grid import select
 
-    ids = [test.test_id for test in select(night=True)]
+    ids = [test.test_id for protocol in EDITION_NAMES for test in select(night=True, protocol=protocol)]
     codes = sorted({test_id.split("/")[0] for test_id in ids})
     names = [entry.name for entry in bundled_scenarios()]
     close = difflib.get_close_matches(source, [*names, *codes, *ids], n=5, cutoff=0.5)

@@ -106,9 +106,10 @@ def _catalogue_bases(spec: SweepSpec) -> dict[str, Scenario]:
     except UserInputError as error:
         raise UserInputError(str(error).replace("planner.name:", "catalogue.planner:", 1)) from None
     try:
-        tests = select(choice.scenarios, choice.night)
+        tests = select(choice.scenarios, choice.night, choice.protocol)
     except UserInputError as error:
-        raise UserInputError(str(error).replace("--scenario:", "catalogue.scenarios:", 1)) from None
+        message = str(error).replace("--scenario:", "catalogue.scenarios:", 1)
+        raise UserInputError(message.replace("--protocol:", "catalogue.protocol:", 1)) from None
     return {test.test_id: build_test(test, choice.planner, choice.v2x).scenario for test in tests}
 
 

@@ -42,6 +42,7 @@ class CatalogueBase(StrictModel):
     """A catalogue selection as the base: every selected Euro NCAP test is one value of the `test` dimension."""
 
     scenarios: list[str] = Field(min_length=1, description="scenario codes or prefixes, as `vrusim ncap --scenario`")
+    protocol: str | None = Field(None, description="Euro NCAP edition, as `vrusim ncap --protocol`; None: the default")
     night: bool = False
     v2x: bool = False
     planner: str = "fsm"
