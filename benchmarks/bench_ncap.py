@@ -15,13 +15,16 @@ import resource
 import time
 
 
-def measure(planner: str, v2x: bool, repeats: int) -> dict:
-    """Best-of-`repeats` timings of build, run and assessment for the whole day + night grid."""
+def measure(planner: str, v2x: bool, repeats: int, protocol: str | None) -> dict:
+    """Best-of-`repeats` timings of build, run and assessment for an edition's whole day + night grid."""
     from vrusim.ncap.assess import assess
     from vrusim.ncap.build import build_test
+    from vrusim.ncap.editions import edition
     from vrusim.ncap.grid import run_tests, select
 
-    tests = select(night=True)
+    protocol = edition(protocol).name
+
+    tests = select(night=True, protocol=protocol)
     run_tests(tests[:3], planner=planner, v2x=v2x)  # warm-up: compiled kernels from the cache
     best = {"build_s": float("inf"), "total_s": float("inf"), "assess_s": float("inf")}
     steps = 0
@@ -38,6 +41,7 @@ def measure(planner: str, v2x: bool, repeats: int) -> dict:
         best["assess_s"] = min(best["assess_s"], time.perf_counter() - started)
         steps = result.run.steps
     return {
+        "protocol": protocol,
         "planner": planner,
         "v2x": v2x,
         "tests": len(tests),
@@ -53,17 +57,19 @@ def measure(planner: str, v2x: bool, repeats: int) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--planner", default="fsm")
+    parser.add_argument("--protocol", default=None, help="Euro NCAP edition (default: the default edition)")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    figures = [measure(args.planner, v2x, args.repeats) for v2x in (False, True)]
+    figures = [measure(args.planner, v2x, args.repeats, args.protocol) for v2x in (False, True)]
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     if args.json:
         print(json.dumps({"runs": figures, "peak_rss_mb": round(peak_mb, 1)}, indent=2))
         return
     for f in figures:
         print(
-            f"planner {f['planner']}, V2X {'on ' if f['v2x'] else 'off'}: {f['tests']} tests x {f['steps']} steps "
+            f"protocol {f['protocol']}, planner {f['planner']}, V2X {'on ' if f['v2x'] else 'off'}: "
+            f"{f['tests']} tests x {f['steps']} steps "
             f"in {f['build_and_run_s']:.2f} s (build {f['build_s']:.2f} s), assessment {f['assess_s']:.3f} s, "
             f"{f['scenario_steps_per_s']:,} scenario-steps/s, {f['euro_ncap_points']} Euro NCAP points"
         )
