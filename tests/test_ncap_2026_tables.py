@@ -200,7 +200,10 @@ def test_cbta_geometry_follows_fc26():
     assert book.scenario("CBTAfs").impact_side == "left" and book.scenario("CBTAns").impact_side == "right"
 
 
-FC26_CMRB = "For CMRb, the Time Headway $= 1 . 0 \\ s$ , and the target acceleration $= - 4 \\mathsf { m } / \\mathsf { s } ^ { 2 }$"
+FC26_CMRB = (
+    "For CMRb, the Time Headway $= 1 . 0 \\ s$ , and the target acceleration "
+    "$= - 4 \\mathsf { m } / \\mathsf { s } ^ { 2 }$"
+)
 FC26_CMCSCP = (
     "the reference point of the EMT collides with $90 \\%$ side impact location [...] The group of 3 "
     "obstruction vehicles are parked 1m apart from each other, and at a lateral offset of 2m for nearside "

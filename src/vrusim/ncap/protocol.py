@@ -125,7 +125,8 @@ Layout = Literal[
 from standstill (SfS) towards a crossing / oncoming target; pedal_misapplication — a creeping VUT gets full
 accelerator pedal towards a standing child (CPMFC); dooring — a cyclist passes the parked VUT whose driver
 door is operated (CBDA)."""
-Function = Literal["AEB", "FCW", "avoidance"]
+Function = Literal["AEB", "FCW", "avoidance", "ACPE", "dooring"]
+"""2026 low speed: ACPE = accelerator control for pedal error (CPMFC), dooring = CBDA door response."""
 
 
 @dataclass(frozen=True)
@@ -250,4 +251,3 @@ OBSTRUCTIONS: dict[str, Obstruction] = {
     ),
 }
 """Parked obstruction rows by scenario family."""
-

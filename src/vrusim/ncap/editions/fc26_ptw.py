@@ -43,8 +43,12 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         "rear",
         "EMT",
         0.0,
-        il_grid(tuple(float(v) for v in range(30, 140, 10)), PTW_IL, (75, 50, 25),
-                extended_speeds_kph=(90.0, 100.0, 110.0, 120.0, 130.0)),  # fmt: skip
+        il_grid(
+            tuple(float(v) for v in range(30, 140, 10)),
+            PTW_IL,
+            (75, 50, 25),
+            extended_speeds_kph=(90.0, 100.0, 110.0, 120.0, 130.0),
+        ),
         side="ahead",
         headway_s=1.0,
         target_decel_mps2=4.0,
@@ -78,8 +82,11 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         "crossing",
         "EMT",
         20.0,
-        tuple(c for c in speed_grid(CMCSCP_SPEEDS, CMCSCP_SPEEDS, CMCSCP_EXTENDED, skip=CMCSCP_NA)
-              if c.range == "standard"),  # fmt: skip
+        tuple(
+            c
+            for c in speed_grid(CMCSCP_SPEEDS, CMCSCP_SPEEDS, CMCSCP_EXTENDED, skip=CMCSCP_NA)
+            if c.range == "standard"
+        ),
         impact_location=0.9,
         function="avoidance",
         impact_side="right",
@@ -97,8 +104,11 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         "crossing",
         "EMT",
         20.0,
-        tuple(c for c in speed_grid(CMCSCP_SPEEDS, CMCSCP_SPEEDS, CMCSCP_EXTENDED, skip=CMCSCP_NA)
-              if c.range == "extended"),  # fmt: skip
+        tuple(
+            c
+            for c in speed_grid(CMCSCP_SPEEDS, CMCSCP_SPEEDS, CMCSCP_EXTENDED, skip=CMCSCP_NA)
+            if c.range == "extended"
+        ),
         impact_location=0.9,
         function="avoidance",
         impact_side="right",

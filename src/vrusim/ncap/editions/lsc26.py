@@ -35,9 +35,7 @@ CBDA_PATH_CLEARANCE_M = 1.0
 
 def _pairs(rows: tuple[float, ...], speeds: tuple[float, ...], label: str) -> tuple[Cell, ...]:
     """Cells gap/d × target speed at a standing VUT (speed 0), variant `<label><gap>-<speed>kph`."""
-    return tuple(
-        Cell(0.0, f"{label}{g:.2f}-T{t:g}", target_speed_kph=t, gap_m=g) for g in rows for t in speeds
-    )
+    return tuple(Cell(0.0, f"{label}{g:.2f}-T{t:g}", target_speed_kph=t, gap_m=g) for g in rows for t in speeds)
 
 
 LOW_SPEED: tuple[NcapScenario, ...] = (
@@ -78,8 +76,10 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         tuple(Cell(v, f"IL{p}", impact_location=p / 100) for v in (4.0, 8.0) for p in (25, 50, 75)),
         function="avoidance",
         official="CPMRCs",
-        unverified=("VUT reverses at its test speed from 10 m before the child (LSC26: accelerates from rest, "
-                    "steady from 2 s TTC)",),  # fmt: skip
+        unverified=(
+            "VUT reverses at its test speed from 10 m before the child (LSC26: accelerates from rest, "
+            "steady from 2 s TTC)",
+        ),
         sources="LSC26 §3.2.2.2 (4/8 km/h, 25/50/75 %)",
     ),
     NcapScenario(
@@ -90,6 +90,7 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         "EPTc",
         0.0,
         tuple(Cell(0.0, f"{d}-IL{p}", impact_location=p / 100) for d in ("d1", "d2") for p in (25, 50, 75)),
+        function="ACPE",
         official="CPMFC",
         sources="LSC26 §3.2.2.3 (d1/d2, 25/50/75 %, TACC 1.5 m before the child)",
         requires=(SFS_START + ", creeping", "accelerator pedal misapplication at TACC (ACPE torque suppression)"),
@@ -102,10 +103,13 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         "EBTa",
         10.0,
         _pairs((0.5, 1.0, 1.5, 2.0), (10.0, 15.0, 20.0), "gap"),
+        function="dooring",
         official="CBDA",
         sources="LSC26 §3.2.3 (rear gap 0.50-2.00 m, EBT 10/15/20 km/h, door operation distances)",
-        requires=("parked VUT with a driver door (CBDA_DOOR_OPERATION_M), smaller obstruction car behind",
-                  "door information / warning / retention assessment (LSC26 §5.2.3)"),  # fmt: skip
+        requires=(
+            "parked VUT with a driver door (CBDA_DOOR_OPERATION_M), smaller obstruction car behind",
+            "door information / warning / retention assessment (LSC26 §5.2.3)",
+        ),
     ),
     NcapScenario(
         "CMCscp-SfS",
