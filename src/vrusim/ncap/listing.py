@@ -5,7 +5,6 @@ from __future__ import annotations
 from vrusim.ncap.editions import edition
 from vrusim.ncap.protocol import DUMMIES, NcapScenario
 
-
 _RANGES = ("standard", "extended", "robustness")
 
 
