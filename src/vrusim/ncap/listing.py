@@ -5,6 +5,8 @@ from __future__ import annotations
 from vrusim.ncap.editions import edition
 from vrusim.ncap.protocol import DUMMIES, NcapScenario
 
+_RANGES = ("standard", "extended", "robustness")
+
 
 def _target_speeds(spec: NcapScenario) -> list[float] | str:
     """Target speeds of a scenario's grid, km/h; "vut" when the target drives at the VUT's speed (CMRb)."""
@@ -52,6 +54,9 @@ def catalogue_listing(protocol: str | None = None) -> list[dict]:
                 "unverified": list(s.unverified) + [f"{t}: {flag}" for t in targets for flag in DUMMIES[t].unverified],
                 "sources": s.sources,
                 "tests": len(s.cells) * len(s.lighting),
+                "ranges": {r: sum(c.range == r for c in s.cells) * len(s.lighting) for r in _RANGES},
+                "official": s.official,
+                "requires": list(s.requires),
             }
         )
     return rows

@@ -105,11 +105,28 @@ TURN_PATHS: dict[tuple[str, float], TurnPath] = {
     ("farside", 15.0): TurnPath(1500.0, 11.75, 20.93, 48.14),
     ("farside", 20.0): TurnPath(1500.0, 14.75, 21.79, 46.42),
     ("nearside", 10.0): TurnPath(1500.0, 8.00, 22.85, 44.30),
+    # FC26 §1.2.4 "20 and 25 km/h to Farside"; §3.2.2: "The 25 km/h turn ... is conducted in the 20 km/h path"
+    ("farside", 25.0): TurnPath(1500.0, 14.75, 21.79, 46.42),
 }
 """Keyed by (turn side, VUT speed in km/h). Farside = left turn, nearside = right turn (left-hand drive)."""
 
-Layout = Literal["crossing", "longitudinal", "turning", "reverse", "rear", "oncoming"]
-Function = Literal["AEB", "FCW", "avoidance"]
+Layout = Literal[
+    "crossing",
+    "longitudinal",
+    "turning",
+    "reverse",
+    "rear",
+    "oncoming",
+    "standstill_start",
+    "pedal_misapplication",
+    "dooring",
+]
+"""2026 low-speed layouts (LSC26; the builder does not support them yet): standstill_start — the VUT starts
+from standstill (SfS) towards a crossing / oncoming target; pedal_misapplication — a creeping VUT gets full
+accelerator pedal towards a standing child (CPMFC); dooring — a cyclist passes the parked VUT whose driver
+door is operated (CBDA)."""
+Function = Literal["AEB", "FCW", "avoidance", "ACPE", "dooring"]
+"""2026 low speed: ACPE = accelerator control for pedal error (CPMFC), dooring = CBDA door response."""
 
 
 @dataclass(frozen=True)
@@ -126,6 +143,8 @@ class Cell:
     EXTENDED_RANGE_CELLS, or a robustness layer). 2023 cells are all "standard"."""
     function: Function | None = None
     """The cell's function when it differs from its scenario's (2026: FCW rows inside an AEB grid)."""
+    gap_m: float | None = None
+    """2026 low-speed grids: the distance the grid varies (CBNAO SfS d, CPMRCm / CBDA rear gap), m."""
 
 
 @dataclass(frozen=True)
@@ -166,7 +185,7 @@ class NcapScenario:
     turn: Literal["farside", "nearside"] | None = None
     target_line_m: float = 0.0
     moves_with_vut: bool = True
-    obstruction: Literal["CPNCO", "CBNA", "CBNAO", "CBFA"] | None = None
+    obstruction: Literal["CPNCO", "CBNA", "CBNAO", "CBFA", "CMCscp"] | None = None
     headway_s: float = 0.0
     target_decel_mps2: float = 0.0
     extension: bool = False
@@ -176,6 +195,9 @@ class NcapScenario:
     unverified: tuple[str, ...] = ()
     sources: str = ""
     tags: tuple[str, ...] = field(default=())
+    requires: tuple[str, ...] = ()
+    """Engine / builder features the scenario needs that vrusim does not have yet (2026 low-speed tests:
+    a VUT starting from standstill, pedal misapplication, a door). Empty: `ncap/build.py` can build it."""
 
 
 def speeds(first: float, last: float, step: float = 5.0) -> tuple[Cell, ...]:
@@ -217,5 +239,15 @@ OBSTRUCTIONS: dict[str, Obstruction] = {
     "CBNA": Obstruction(("SUV", "small car"), False, 1.0, 17.0, 0.2, "V23 CBNA (row ends at D = 17 m)"),
     "CBNAO": Obstruction(("SUV", "small car"), False, 4.8, 3.55, 0.2, "V23 CBNAO (I = 3.55 m, J = 4.8 m)"),
     "CBFA": Obstruction(("SUV", "small car"), False, 1.0, 22.0, 0.2, "V23 CBFA; placement UNVERIFIED (vectorgrp #15)"),
+    # 2026, CMCscp standard range only (nearside approach; the farside row, 5.5 m off, needs builder support)
+    "CMCscp": Obstruction(
+        ("SUV", "small car", "small car"),
+        True,
+        2.0 - 0.9,
+        1.0,
+        1.0,
+        "FC26 §3.1.3.2: 3 parked cars 1 m apart, large first, 2 m from the VUT trajectory (clearance = 2.0 m "
+        "minus half our 1.8 m VUT); first car 1.0 m before the EMT path and the third car's type UNVERIFIED",
+    ),
 }
 """Parked obstruction rows by scenario family."""

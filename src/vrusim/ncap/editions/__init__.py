@@ -35,7 +35,7 @@ class Edition:
         return tuple(s.code for s in self.scenarios)
 
 
-_MODULES = {"2023": "vrusim.ncap.editions.v2023"}
+_MODULES = {"2023": "vrusim.ncap.editions.v2023", "2026": "vrusim.ncap.editions.v2026"}
 """Edition name -> the module whose EDITION it is (imported on first use)."""
 
 EDITION_NAMES: tuple[str, ...] = tuple(_MODULES)
