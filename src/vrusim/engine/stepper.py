@@ -111,7 +111,11 @@ def _scratch(params: BatchParams, ego: EgoState, driver, door) -> _Scratch:
         [
             _read_only(a)
             for a in (
-                driver.accel_mps2, driver.idle_accel_mps2, driver.accelerator, params.driver.has, door.requested,
+                driver.accel_mps2,
+                driver.idle_accel_mps2,
+                driver.accelerator,
+                params.driver.has,
+                door.requested,
                 door.angle_rad,
             )
         ],

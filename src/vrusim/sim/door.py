@@ -132,8 +132,35 @@ def update_doors(door: DoorArrays, state: DoorState, hold, t_s, t_next_s, ego, v
 
 @batch_kernel
 def _door_step(
-    t, t_next, has, hinge_x, hinge_y, side, mirror, length, thickness, max_angle, rate, delay, kind, value, vru,
-    rear_x, hold, cx, cy, hx, hy, px, py, radius, requested, open_at, angle, hit, contact,
+    t,
+    t_next,
+    has,
+    hinge_x,
+    hinge_y,
+    side,
+    mirror,
+    length,
+    thickness,
+    max_angle,
+    rate,
+    delay,
+    kind,
+    value,
+    vru,
+    rear_x,
+    hold,
+    cx,
+    cy,
+    hx,
+    hy,
+    px,
+    py,
+    radius,
+    requested,
+    open_at,
+    angle,
+    hit,
+    contact,
 ):  # pragma: no cover (compiled)
     B, K = px.shape
     for b in prange(B):

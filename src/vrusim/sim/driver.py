@@ -94,8 +94,24 @@ def update_driver(driver: DriverArrays, state: DriverState, t_s: float, dt_s: fl
 
 @batch_kernel
 def _driver_step(
-    t, dt, has, count, kind, value, target, rate, pedal, creep_v, creep_a, max_decel, speed, station, phase,
-    request, idle, accelerator,
+    t,
+    dt,
+    has,
+    count,
+    kind,
+    value,
+    target,
+    rate,
+    pedal,
+    creep_v,
+    creep_a,
+    max_decel,
+    speed,
+    station,
+    phase,
+    request,
+    idle,
+    accelerator,
 ):  # pragma: no cover (compiled)
     for b in prange(has.shape[0]):
         if not has[b]:
