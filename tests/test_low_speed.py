@@ -109,13 +109,13 @@ def test_phases_start_on_route_distance_in_order():
 
 def test_bad_driver_and_door_input_names_the_field():
     with pytest.raises(UserInputError, match="phases"):
-        scenario({"driver": {"phases": [{"at_time_s": 2.0, "target_speed_mps": 1, "accel_mps2": 1},
-                                        {"at_time_s": 1.0, "target_speed_mps": 1, "accel_mps2": 1}]}}, [FAR])  # fmt: skip
+        phases = [{"at_time_s": t, "target_speed_mps": 1, "accel_mps2": 1} for t in (2.0, 1.0)]
+        scenario({"driver": {"phases": phases}}, [FAR])
     with pytest.raises(UserInputError, match="exactly one"):
         scenario({"driver": {"phases": [{"target_speed_mps": 1, "accel_mps2": 1}]}}, [FAR])
     with pytest.raises(UserInputError, match="door"):
         scenario({"door": {"hinge_from_front_m": 4.0, "length_m": 1.0, "trigger": {"at_time_s": 0}}}, [FAR])
-    with pytest.raises(UserInputError, match="ego.door.trigger.vru"):
+    with pytest.raises(UserInputError, match=r"ego\.door\.trigger\.vru"):
         scenario({"door": {"trigger": {"vru_distance_m": 5.0, "vru": 3}}}, [FAR])
 
 
@@ -191,7 +191,7 @@ def test_dow_without_retention_only_warns():
 
 
 def test_dow_needs_a_door():
-    with pytest.raises(UserInputError, match="ego.door"):
+    with pytest.raises(UserInputError, match=r"ego\.door"):
         simulate([scenario({}, [FAR], "dow")])
 
 
@@ -289,7 +289,7 @@ def test_reverse_aeb_stops_before_the_child_the_none_planner_hits():
 
 
 def test_reverse_aeb_refuses_a_forward_ego():
-    with pytest.raises(UserInputError, match="ego.reverse"):
+    with pytest.raises(UserInputError, match=r"ego\.reverse"):
         simulate([scenario({}, [FAR], "reverse_aeb")])
 
 
