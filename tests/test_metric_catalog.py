@@ -55,6 +55,9 @@ SUMMARY_KEYS = [
     "impact_point_y_m",
     "impact_side",
     "impact_lateral_fraction",
+    "impact_body_side",
+    "impact_location",
+    "door_collision",
     "impact_vru",
     "first_sensor_detection_s",
     "first_v2x_message_s",
@@ -84,11 +87,11 @@ SUMMARY_KEYS = [
 FLOATS = [
     key
     for key in SUMMARY_KEYS[SUMMARY_KEYS.index("contact_time_s") : SUMMARY_KEYS.index("safety")]
-    if key not in ("impact_side", "impact_vru", "first_mode_s", "transitions")
+    if key not in ("impact_side", "impact_body_side", "door_collision", "impact_vru", "first_mode_s", "transitions")
 ]
 """The float measure columns: the metrics of the summary row but the outcome columns, planner ones and scores."""
 FSM_COLUMNS = [
-    *("outcome", "collided", "impact_side", "impact_vru"),
+    *("outcome", "collided", "impact_side", "impact_body_side", "door_collision", "impact_vru"),
     *FLOATS,
     *("first_pre_slow_s", "first_emergency_brake_s", "first_follow_s", "transitions"),
     *("safety", "efficiency", "comfort"),
@@ -158,6 +161,7 @@ def test_column_types_follow_the_declared_dtypes(run):
         kind = catalog.column_dtype(name)
         assert {"float64": "f", "int64": "i", "bool": "b", "string": "O"}[kind] == values.dtype.kind, name
     expected = {"outcome": pa.string(), "collided": pa.bool_(), "impact_side": pa.string(), "transitions": pa.int64()}
+    expected.update(impact_body_side=pa.string(), door_collision=pa.bool_())
     for name in FSM_COLUMNS:
         assert result_type(name) == expected.get(name, pa.float64()), name
     table = chunk_table({"variant": [0, 1]}, {"variant": pa.int64()}, columns)

@@ -23,6 +23,7 @@ TRANSITION = pa.struct([("t_s", pa.float64()), ("from", pa.string()), ("to", pa.
 
 SUMMARY_TYPES: dict[str, pa.DataType] = {
     "impact_side": pa.string(),
+    "impact_body_side": pa.string(),
     "impact_vru": pa.int64(),
     "transitions": pa.list_(TRANSITION),
 }

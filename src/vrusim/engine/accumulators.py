@@ -68,6 +68,9 @@ ACCUMULATORS = (
     Accumulator("prev_ttc_vru", "carry", "slot of the VRU with the smallest TTC"),
     Accumulator("first_warning_s", "first", "forward-collision warning issued by the planner"),
     Accumulator("warning_ttc_s", "at", "TTC of the state the first warning was issued on"),
+    Accumulator("impact_vru_local_x_m", "at", "centre of the VRU hit at the contact time, vehicle frame x"),
+    Accumulator("impact_vru_local_y_m", "at", "centre of the VRU hit at the contact time, vehicle frame y"),
+    Accumulator("impact_door", "at", "1 when the first contact was with the opened door (`ego.door`), else 0"),
 )
 """Accumulator rows, declared once: the metric catalogue (`vrusim.metrics.catalog`) refers to them by name."""
 FIELDS = tuple(row.name for row in ACCUMULATORS)
@@ -105,6 +108,9 @@ PREV_TTC = _I["prev_ttc_s"]
 PREV_TTC_VRU = _I["prev_ttc_vru"]
 FIRST_WARNING = _I["first_warning_s"]
 WARNING_TTC = _I["warning_ttc_s"]
+IMPACT_VRU_X = _I["impact_vru_local_x_m"]
+IMPACT_VRU_Y = _I["impact_vru_local_y_m"]
+IMPACT_DOOR = _I["impact_door"]
 
 
 class RunMetrics:
@@ -128,6 +134,8 @@ class RunMetrics:
             FIRST_V2X,
             FIRST_WARNING,
             WARNING_TTC,
+            IMPACT_VRU_X,
+            IMPACT_VRU_Y,
         )
         values[list(nan_rows)] = np.nan
         values[[MIN_CLR, MIN_TTC, PREV_CLR, PREV_TTC]] = np.inf
@@ -189,8 +197,11 @@ class RunMetrics:
                 if math.isnan(first[b, new]):
                     first[b, new] = t_s
 
-    def record_step(self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus) -> None:
-        """Fold one step (ending at t_s) into the summaries of the active variants."""
+    def record_step(
+        self, t_s: float, active, ego, moving_before, clearance, outline_x, outline_y, ttc, vrus, door_hit
+    ) -> None:
+        """Fold one step (ending at t_s) into the summaries of the active variants; `door_hit` [B, K] marks the
+        clearances that are the opened door's, not the body's."""
         p = self.params
         _record_step(
             self.params.size,
@@ -216,6 +227,7 @@ class RunMetrics:
             p.half_length_m,
             p.half_width_m,
             p.vru_radius_m,
+            door_hit,
             self.values,
             self.collided,
         )
@@ -258,6 +270,7 @@ def _record_step(
     half_length,
     half_width,
     radius,
+    door_hit,
     m,
     collided,
 ):  # pragma: no cover (compiled)
@@ -308,11 +321,14 @@ def _record_step(
             rvy = speed[b] * hy[b] - vru[3, b, nearest]
             m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
             m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
-            if swept:  # impact point where the bodies met: step-end positions moved back along the relative motion
-                back = (1.0 - frac) * dt
-                px = vru[0, b, nearest] + rvx * back
-                py = vru[1, b, nearest] + rvy * back
-                lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
+            # the VRU's centre when the bodies met: its step-end position moved back along the relative motion
+            back = (1.0 - frac) * dt
+            px = vru[0, b, nearest] + rvx * back
+            py = vru[1, b, nearest] + rvy * back
+            lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
+            m[IMPACT_VRU_X, b], m[IMPACT_VRU_Y, b] = lx, ly
+            m[IMPACT_DOOR, b] = 1.0 if (door_hit[b, nearest] and not swept) else 0.0
+            if swept:  # impact point where the bodies met
                 _, m[IMPACT_X, b], m[IMPACT_Y, b] = clearance_local(lx, ly, half_length[b], half_width[b], 0.0)
                 m[MIN_CLR, b] = min(m[MIN_CLR, b], 0.0)
             else:

@@ -17,7 +17,14 @@ import numpy as np
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.stepper import BatchStepper
 from vrusim.errors import UserInputError
-from vrusim.planners.base import Planner, PlannerBase, planner_mode, planner_mode_names, planner_warning
+from vrusim.planners.base import (
+    Planner,
+    PlannerBase,
+    planner_door_hold,
+    planner_mode,
+    planner_mode_names,
+    planner_warning,
+)
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import compactable
@@ -79,7 +86,8 @@ def simulate(
         warning = planner.warning if declared else planner_warning(planner)
         if warning is not None:
             work.record_warning(observation.t_s, active, warning)
-        running = stepper.advance(command).running
+        door_hold = planner.door_hold if declared else planner_door_hold(planner)
+        running = stepper.advance(command, door_hold).running
         if recorder is not None:
             recorder.add(stepper, planner, command)
         if running == 0:
@@ -137,6 +145,10 @@ class TraceRecorder:
         self._put("vru_source", stepper.source)
         self._put("clearance_m", stepper.clearance_m.min(axis=1))
         self._put("ttc_s", stepper.ttc_s.min(axis=1))
+        if stepper.has_driver:
+            self._put("driver_accel_mps2", stepper.driver.accel_mps2)
+        if stepper.has_door:
+            self._put("door_angle_rad", stepper.door.angle_rad)
 
     def finish(self) -> dict[str, np.ndarray]:
         return {name: np.stack(values) for name, values in self.rows.items()}

@@ -23,6 +23,8 @@ from vrusim.geometry.contact import clearance_batch
 from vrusim.geometry.ttc import ttc_batch
 from vrusim.kernels import njit
 from vrusim.sim.compaction import take
+from vrusim.sim.door import initial_door, update_doors
+from vrusim.sim.driver import initial_driver, update_driver
 from vrusim.sim.ego import advance_egos
 from vrusim.sim.observation import Observation, fuse
 from vrusim.sim.params import BatchParams
@@ -84,9 +86,13 @@ class _Scratch:
     """The stop-rule kernel's output [B] (int8), copied into a `StepOutcome` when a variant stopped."""
     no_stop: np.ndarray
     """The `StepOutcome.reason` of a step in which no variant stopped: zeros [B], read-only, shared."""
+    low_speed: list[np.ndarray]
+    """Read-only views of the driver's request and the door state, and `has_driver` (the observation's)."""
+    no_hold: np.ndarray
+    """Door retention when the planner holds no door: False [B]."""
 
 
-def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
+def _scratch(params: BatchParams, ego: EgoState, driver, door) -> _Scratch:
     # kernels update the state arrays in place, views follow
     ego_view = [
         _read_only(a)
@@ -102,6 +108,18 @@ def _scratch(params: BatchParams, ego: EgoState) -> _Scratch:
         np.full(shape, np.inf),
         np.zeros(params.size, dtype=np.int8),
         _read_only(np.zeros(params.size, dtype=np.int8)),
+        [
+            _read_only(a)
+            for a in (
+                driver.accel_mps2,
+                driver.idle_accel_mps2,
+                driver.accelerator,
+                params.driver.has,
+                door.requested,
+                door.angle_rad,
+            )
+        ],
+        np.zeros(params.size, dtype=bool),
     )
 
 
@@ -126,14 +144,23 @@ class BatchStepper:
         self.ego = initial_ego(params)
         self.vrus = initial_vrus(params)
         self.active = np.ones(params.size, dtype=bool)
+        self.driver = initial_driver(params.size)
+        self.door = initial_door(params.size, params.vru_slots)
         self._advance_vrus = _vru_step(params)
         self._n_steps = params.n_steps
         self.step_index = 0
         self.detected = self.source = None
         self._front: tuple[np.ndarray, np.ndarray] | None = None
-        self._scratch = _scratch(params, self.ego)
+        self._scratch = _scratch(params, self.ego, self.driver, self.door)
+        self._low_speed()
         self._quiet = StepOutcome(self._scratch.no_stop, params.size)
         """The outcome of a step in which no variant stopped (reused while the running count stays the same)."""
+
+    def _low_speed(self) -> None:
+        """Set `has_driver` / `has_door`: whether the working set has drivers / doors (their per-step work runs
+        only then)."""
+        self.has_driver = bool(self.params.driver.has.any())
+        self.has_door = bool(self.params.door.has.any())
 
     @property
     def t_s(self) -> float:
@@ -166,14 +193,18 @@ class BatchStepper:
         self.work.record_detection(t, self.active, sensed, messages.received)
         self._front = (front_x, front_y)
         self.detected, self.source = detected, source
+        if self.has_driver:
+            update_driver(params.driver, self.driver, t, dt, ego.speed_mps, ego.station_m, params.max_decel_mps2)
         return Observation(
-            t, dt, *scratch.ego_view, params.routes, scratch.route_offset, detected, source, estimate, scratch.radius
-        )
+            t, dt, *scratch.ego_view, params.routes, scratch.route_offset, detected, source, estimate,
+            scratch.radius, *scratch.low_speed,
+        )  # fmt: skip
 
-    def advance(self, command: np.ndarray) -> StepOutcome:
+    def advance(self, command: np.ndarray, door_hold: np.ndarray | None = None) -> StepOutcome:
         """Move VRUs and egos to t + dt under `command`, check contact, record metrics, apply the stop rules;
         return which variants stopped and why, and how many of the working set still run. After the batch's
-        last step (`n_steps`) every variant has stopped."""
+        last step (`n_steps`) every variant has stopped. `door_hold` [B] (bool): door retention, the planner
+        holding each variant's door closed during this step (None: no door held)."""
         if self._front is None:
             raise RuntimeError("BatchStepper.advance: call observe() first in every step")
         params, ego, vrus, scratch = self.params, self.ego, self.vrus, self._scratch
@@ -195,9 +226,16 @@ class BatchStepper:
             params.half_width_m, ego.speed_mps, vrus.x_m, vrus.y_m, params.vru_radius_m, vrus.vx_mps, vrus.vy_mps,
             scratch.ttc,
         )  # fmt: skip
+        if self.has_door:
+            hold = scratch.no_hold if door_hold is None else np.asarray(door_hold, dtype=bool)
+            update_doors(
+                params.door, self.door, hold, t, t_next, ego, vrus.x_m, vrus.y_m, params.vru_radius_m, scratch.contact
+            )
         clearance, outline_x, outline_y = scratch.contact
         work = self.work
-        work.record_step(t_next, self.active, ego, moving_before, clearance, outline_x, outline_y, scratch.ttc, vrus)
+        work.record_step(
+            t_next, self.active, ego, moving_before, clearance, outline_x, outline_y, scratch.ttc, vrus, self.door.hit
+        )
         reason = scratch.reason
         running = _update_active(
             t_next,
@@ -221,12 +259,14 @@ class BatchStepper:
         keep = np.flatnonzero(self.active)
         self.params = take(self.params, keep)
         self.ego, self.vrus = take(self.ego, keep), take(self.vrus, keep)
+        self.driver, self.door = take(self.driver, keep), take(self.door, keep)
         self.channel.compact(keep)
         self.sensor.compact(keep)
         self.metrics.merge(self.work)
         self.work = self.work.subset(keep, self.params)
         self.active = np.ones(keep.size, dtype=bool)
-        self._scratch = _scratch(self.params, self.ego)
+        self._scratch = _scratch(self.params, self.ego, self.driver, self.door)
+        self._low_speed()
         self._quiet = StepOutcome(self._scratch.no_stop, keep.size)
         return keep
 

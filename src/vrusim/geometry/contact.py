@@ -16,7 +16,9 @@ from vrusim.kernels import batch_kernel, njit, prange
 
 __all__ = [
     "IMPACT_SIDE_NAMES",
+    "body_side",
     "clearance_local",
+    "impact_location",
     "impact_side",
     "lateral_impact_fraction",
     "rectangle_circle_clearance",
@@ -179,6 +181,35 @@ def lateral_impact_fraction(outline_y: ArrayLike, half_width: ArrayLike) -> Floa
     frac = (oy + hw) / safe_width
     frac = np.where(width > 0.0, frac, 0.5)
     return np.clip(frac, 0.0, 1.0)
+
+
+_MIRRORED_SIDE = np.array([1, 0, 3, 2], dtype=np.int8)
+"""Side codes of the body mirrored front to back (a reversing ego): front <-> rear, left <-> right."""
+
+
+def body_side(side: ArrayLike, reverse: ArrayLike) -> NDArray[np.int8]:
+    """Side codes (:data:`IMPACT_SIDE_NAMES`) [B] of the simulated frame as sides of the real body: mirrored
+    (front <-> rear, left <-> right) where `reverse` [B] (the simulated frame of a reversing ego is the body
+    mirrored front to back, docs/models.md "Reversing")."""
+    codes = np.asarray(side, dtype=np.int8)
+    return np.where(np.asarray(reverse, dtype=bool), _MIRRORED_SIDE[codes], codes).astype(np.int8, copy=False)
+
+
+def impact_location(
+    side: ArrayLike, local_x: ArrayLike, local_y: ArrayLike, half_length: ArrayLike, half_width: ArrayLike,
+    reverse: ArrayLike,
+) -> FloatArray:  # fmt: skip
+    """Euro NCAP impact location (LSC26 §1.2.2, FC26 "Impact location") of a VRU reference point [B]: on the
+    front or rear (`side` 0, 1 of the real body, :func:`body_side`), the fraction of the vehicle width, 0 at the
+    right edge, 1 at the left; on a side (2, 3), the fraction of the vehicle length, 0 at the rearmost point,
+    1 at the most forward. `local_x`, `local_y` [B] m are the point in the simulated vehicle frame (mirrored
+    into the body frame where `reverse`). Not clipped: a value outside [0, 1] means the point lay beyond a
+    corner (a corner hit)."""
+    sign = np.where(np.asarray(reverse, dtype=bool), -1.0, 1.0)
+    bx, by = sign * np.asarray(local_x, dtype=float), sign * np.asarray(local_y, dtype=float)
+    hl, hw = np.asarray(half_length, dtype=float), np.asarray(half_width, dtype=float)
+    codes = np.asarray(side)
+    return np.where(codes >= 2, (bx + hl) / (2.0 * hl), (by + hw) / (2.0 * hw))
 
 
 @batch_kernel

@@ -24,7 +24,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from vrusim.engine.accumulators import ACCUMULATORS, REDUCTIONS
-from vrusim.geometry.contact import IMPACT_SIDE_NAMES, impact_side, lateral_impact_fraction
+from vrusim.geometry.contact import (
+    IMPACT_SIDE_NAMES,
+    body_side,
+    impact_location,
+    impact_side,
+    lateral_impact_fraction,
+)
 from vrusim.metrics.scores import profile, scores
 
 if TYPE_CHECKING:
@@ -271,6 +277,30 @@ def _impact_side(view: BatchView) -> np.ndarray:
     return np.where(view["collided"], names[np.clip(side, 0, len(names) - 1)], None)
 
 
+def _body_side_codes(view: BatchView) -> np.ndarray:
+    m, p = view.accumulators, view.params
+    side = impact_side(m.impact_local_x_m, m.impact_local_y_m, p.half_length_m, p.half_width_m)
+    return body_side(np.clip(side, 0, len(IMPACT_SIDE_NAMES) - 1), p.reverse)
+
+
+def _impact_body_side(view: BatchView) -> np.ndarray:
+    names = np.array(IMPACT_SIDE_NAMES, dtype=object)
+    return np.where(view["collided"], names[_body_side_codes(view)], None)
+
+
+def _impact_location(view: BatchView) -> np.ndarray:
+    m, p = view.accumulators, view.params
+    location = impact_location(
+        _body_side_codes(view), m.impact_vru_local_x_m, m.impact_vru_local_y_m, p.half_length_m, p.half_width_m,
+        p.reverse,
+    )  # fmt: skip
+    return np.where(view["collided"], location, np.nan)
+
+
+def _door_collision(view: BatchView) -> np.ndarray:
+    return view["collided"] & (view.accumulators.impact_door > 0.5)
+
+
 def _lateral_fraction(view: BatchView) -> np.ndarray:
     fraction = lateral_impact_fraction(view.accumulators.impact_local_y_m, view.params.half_width_m)
     return np.where(view["collided"], fraction, np.nan)
@@ -386,6 +416,14 @@ _BUILTIN_METRICS = (
            _impact_side, reduce="at", dtype="string", group="outcome", source=CONTACT),
     Metric("impact_lateral_fraction", "", "Impact lateral fraction", "clip((y + w) / 2w, 0, 1): 0 right, 1 left",
            _lateral_fraction, reduce="at", source=CONTACT),
+    Metric("impact_body_side", "", "Impact side of the body",
+           "impact_side on the real body: front and rear, left and right swapped for a reversing ego",
+           _impact_body_side, reduce="at", dtype="string", group="outcome", source=CONTACT),
+    Metric("impact_location", "", "Impact location",
+           "VRU centre at contact: front/rear (y + w) / 2w (0 right), sides (x + l) / 2l (0 rear); LSC26 §1.2.2",
+           _impact_location, reduce="at", source=CONTACT),
+    Metric("door_collision", "", "Door collision", "the first contact was with the opened door (ego.door)",
+           _door_collision, reduce="at", dtype="bool", group="outcome", source=CONTACT),
     Metric("impact_vru", "", "Impact VRU slot", "index of the VRU hit in the scenario's list", _impact_vru,
            reduce="at", group="outcome", digits=None, source=CONTACT),
     from_accumulator("first_sensor_detection_s", "s", "First sensor detection", "any VRU perceived by the sensor",

@@ -12,6 +12,10 @@ A stage is entered as soon as its threshold is reached. It is left only when the
 TTC the ego would have on resuming its cruise speed (the higher of cruise and current speed) exceeds the stage's
 threshold plus `hysteresis_s`, or is infinite because the VRU has left the path. Braking is therefore held while
 a VRU is still in the path, through to a standstill if need be, and the ego resumes cruise once it has gone.
+
+With a driver schedule (`ego.driver`) "cruise" means following the driver's request; the braking stages override
+it. A reversing ego is simulated mirrored (its leading edge is the real rear bumper), so the same stages brake
+for VRUs behind it: `reverse_aeb` (`planners/reverse_aeb.py`) is this planner for reversing egos.
 """
 
 from __future__ import annotations
@@ -94,10 +98,12 @@ class AebPlanner(PlannerBase):
     """Cruise / warning / partial brake / full brake on the smallest route TTC, per variant."""
 
     mode_names = ("cruise", "warning", "partial_brake", "full_brake")
+    params_model: type[AebParams] = AebParams
+    """The parameter model (a subclass with other defaults keeps the fields and their order)."""
 
     def reset(self, params: BatchParams) -> None:
         """Read per-variant parameters; every variant starts in cruise with the warning off."""
-        self.table = param_table(validate_params(AebParams, params), PARAM_ORDER)
+        self.table = param_table(validate_params(self.params_model, params), PARAM_ORDER)
         self.half_length, self.rear_to_centre = params.half_length_m, params.rear_to_centre_m
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.warning = np.zeros(params.size, dtype=bool)
@@ -114,6 +120,7 @@ class AebPlanner(PlannerBase):
         if self.tracks is None:
             self.tracks, _ = new_tracks(obs)
         command = np.empty(self.mode.shape)
+        has_driver, driver_accel = obs.driver_request()
         _aeb_step(
             self.mode.shape[0],
             obs.routes.arrays,
@@ -132,6 +139,8 @@ class AebPlanner(PlannerBase):
             self.tracks,
             self.mode,
             self.ttc_s,
+            has_driver,
+            driver_accel,
             command,
         )
         self.warning = self.mode >= WARNING
@@ -177,6 +186,8 @@ def _aeb_step(
     tracks,
     mode,
     ttc_out,
+    has_driver,
+    driver_accel,
     command,
 ):  # pragma: no cover (compiled)
     B, K = detected.shape
@@ -216,6 +227,8 @@ def _aeb_step(
             command[b] = -p[b, _FULL_DECEL]
         elif stage == PARTIAL_BRAKE:
             command[b] = -p[b, _PARTIAL_DECEL]
+        elif has_driver[b]:
+            command[b] = driver_accel[b]
         else:
             a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
             command[b] = min(max(a, -p[b, _CRUISE_DECEL]), p[b, _CRUISE_ACCEL])

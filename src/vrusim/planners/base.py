@@ -6,9 +6,14 @@ called every step and returns the commanded longitudinal acceleration per varian
 
 Three optional attributes are declared, with their defaults, on `PlannerBase`: planners with discrete modes
 set `mode_names` (a tuple of names) and `mode` (int array [B], index into `mode_names`) so that the engine
-records every transition with its time; planners that warn the driver set `warning` (bool array [B]). A planner
-need not subclass `PlannerBase`: the engine and the Euro NCAP assessment read these attributes only through
-`planner_mode_names`, `planner_mode` and `planner_warning`, which fall back to the declared defaults.
+records every transition with its time; planners that warn the driver set `warning` (bool array [B]); planners
+that hold a door closed (door retention, `ego.door`) set `door_hold` (bool array [B]). A planner need not subclass
+`PlannerBase`: the engine and the Euro NCAP assessment read these attributes only through `planner_mode_names`,
+`planner_mode`, `planner_warning` and `planner_door_hold`, which fall back to the declared defaults.
+
+With a driver schedule (`ego.driver`) the observation carries the driver's request (`driver_accel_mps2`); the
+planner's command is what the ego gets, so a planner follows the driver unless it overrides (brakes or cuts the
+accelerator). Without one, `has_driver` is false and planners drive by `cruise_speed_mps` as before.
 """
 
 from __future__ import annotations
@@ -47,6 +52,8 @@ class PlannerBase:
     """Current mode per variant, int array [B], or None: no modes (nothing recorded)."""
     warning: np.ndarray | None = None
     """Forward-collision warning per variant, bool array [B] (true while on), or None: the planner never warns."""
+    door_hold: np.ndarray | None = None
+    """Door retention per variant, bool array [B] (true: the door is held closed this step), or None: never."""
 
     def reset(self, params: BatchParams) -> None:
         """Prepare for a new batch."""
@@ -57,7 +64,7 @@ class PlannerBase:
         raise NotImplementedError
 
 
-_DEFAULTS = {name: getattr(PlannerBase, name) for name in ("mode_names", "mode", "warning")}
+_DEFAULTS = {name: getattr(PlannerBase, name) for name in ("mode_names", "mode", "warning", "door_hold")}
 
 
 def _declared(planner: object, name: str):
@@ -80,8 +87,14 @@ def planner_warning(planner: object) -> np.ndarray | None:
     return _declared(planner, "warning")
 
 
+def planner_door_hold(planner: object) -> np.ndarray | None:
+    """The planner's door retention per variant [B], or None if it never holds a door."""
+    return _declared(planner, "door_hold")
+
+
 class HoldSpeedPlanner(PlannerBase):
-    """The `none` planner: commands zero acceleration, so the ego holds its start speed (protocol checks)."""
+    """The `none` planner: no function acts. The ego follows its driver's request (`ego.driver`); without a
+    driver it commands zero acceleration and holds its start speed (protocol checks)."""
 
     mode_names = ("hold",)
 
@@ -94,5 +107,7 @@ class HoldSpeedPlanner(PlannerBase):
         take_members(self, index)
 
     def act(self, observation: Observation) -> np.ndarray:
-        """Zero acceleration for every variant."""
-        return np.zeros(observation.ego_speed_mps.shape)
+        """The driver's request (zero acceleration without a driver) for every variant."""
+        if observation.driver_accel_mps2 is None:
+            return np.zeros(observation.ego_speed_mps.shape)
+        return np.array(observation.driver_accel_mps2, dtype=float)

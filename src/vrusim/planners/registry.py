@@ -1,6 +1,7 @@
 """Find a planner by name: a built-in, a class given as `module:Class`, or one registered as an entry point.
 
-Look-up order for `planner.name`: the built-ins (`fsm`, `none`, `aeb`, `predictive`; they cannot be shadowed),
+Look-up order for `planner.name`: the built-ins (`fsm`, `none`, `aeb`, `predictive`, and the low-speed reference
+functions `acpe`, `reverse_aeb`, `dow`; they cannot be shadowed),
 then `package.module:ClassName`, then the entry points of group `vrusim.planners` that installed distributions
 declare, e.g. in their pyproject.toml:
 
@@ -17,16 +18,22 @@ from collections.abc import Callable
 from pathlib import Path
 
 from vrusim.errors import UserInputError
+from vrusim.planners.acpe import AcpePlanner
 from vrusim.planners.aeb import AebPlanner
 from vrusim.planners.base import HoldSpeedPlanner, Planner
+from vrusim.planners.dow import DowPlanner
 from vrusim.planners.fsm import FsmPlanner
 from vrusim.planners.predictive import PredictivePlanner
+from vrusim.planners.reverse_aeb import ReverseAebPlanner
 
 BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {
     "fsm": FsmPlanner,
     "none": HoldSpeedPlanner,
     "aeb": AebPlanner,
     "predictive": PredictivePlanner,
+    "acpe": AcpePlanner,
+    "reverse_aeb": ReverseAebPlanner,
+    "dow": DowPlanner,
 }
 ENTRY_POINT_GROUP = "vrusim.planners"
 

@@ -11,6 +11,8 @@ from typing import Any, Literal, Self
 
 from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
+from vrusim.scenario.door import Door
+from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
 from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
@@ -125,6 +127,8 @@ class Ego(StrictModel):
     actuator_lag_s: float = Field(0.0, ge=0, description="first-order lag of the acceleration, s; 0: none")
     max_steer_deg: float = Field(35.0, gt=0, lt=90)
     tracking: PathTracking = PathTracking()
+    driver: Driver | None = Field(None, description="the driver's pedal schedule (LSC26); None: no driver model")
+    door: Door | None = Field(None, description="a door that opens into a VRU's path (LSC26 CBDA); None: none")
 
     @field_validator("reverse")
     @classmethod
@@ -145,6 +149,8 @@ class Ego(StrictModel):
                 f"route.radius_m {self.route.radius_m} m is tighter than the ego can turn "
                 f"(wheelbase_m / tan(max_steer_deg) = {min_radius:.2f} m)"
             )
+        if self.door is not None and self.door.hinge_from_front_m + self.door.length_m > self.length_m:
+            raise ValueError("door: hinge_from_front_m + length_m must not exceed the ego's length_m")
         return self
 
     @property
@@ -424,6 +430,13 @@ class Scenario(StrictModel):
             if box.overlaps(ego.start, ego.length_m, ego.width_m):
                 raise ValueError(f"obstacles[{index}] overlaps the ego vehicle's start rectangle")
         return obstacles
+
+    @model_validator(mode="after")
+    def _door_vru_exists(self) -> Self:
+        door = self.ego.door
+        if door is not None and door.trigger.vru_distance_m is not None and door.trigger.vru >= len(self.vrus):
+            raise ValueError(f"ego.door.trigger.vru: {door.trigger.vru} is not a VRU index (vrus has {len(self.vrus)})")
+        return self
 
     def replace(self, **changes: Any) -> Scenario:
         """A validated copy with the field at each dotted path set: `s.replace(**{"ego.cruise_speed_mps": 12.0})`.

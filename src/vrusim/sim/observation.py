@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -46,6 +46,26 @@ class Observation:
     vru_estimate: np.ndarray
     """[7, B, K]: x m, y m, vx m/s, vy m/s, ax m/s^2, ay m/s^2, age s of each VRU estimate."""
     vru_radius_m: np.ndarray
+    # the driver and the door (docs/low_speed_situations.md); None in hand-built observations: no driver, no door
+    driver_accel_mps2: np.ndarray | None = field(default=None)
+    """[B] the driver's requested acceleration, m/s^2 (`ego.driver`; 0 without a driver)."""
+    driver_idle_accel_mps2: np.ndarray | None = field(default=None)
+    """[B] the request with the accelerator released (creeping), m/s^2 (0 without a driver)."""
+    driver_accelerator: np.ndarray | None = field(default=None)
+    """[B] the driver presses the accelerator pedal (bool)."""
+    has_driver: np.ndarray | None = field(default=None)
+    """[B] the variant has a driver schedule (bool): without one, planners drive by `cruise_speed_mps`."""
+    door_requested: np.ndarray | None = field(default=None)
+    """[B] the occupant has operated the door (`ego.door`; bool)."""
+    door_angle_rad: np.ndarray | None = field(default=None)
+    """[B] the door's opening angle, rad (0: closed or no door)."""
+
+    def driver_request(self) -> tuple[np.ndarray, np.ndarray]:
+        """(has_driver [B] bool, driver_accel_mps2 [B]): no driver and zeros where the fields are absent."""
+        if self.has_driver is None or self.driver_accel_mps2 is None:
+            size = self.ego_speed_mps.shape[0]
+            return np.zeros(size, dtype=bool), np.zeros(size)
+        return self.has_driver, self.driver_accel_mps2
 
     @property
     def vru_x_m(self) -> np.ndarray:

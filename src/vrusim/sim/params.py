@@ -21,6 +21,8 @@ from vrusim.geometry.path_table import PathTable
 from vrusim.geometry.paths import Line, PathSpec
 from vrusim.scenario.routes import ego_route_spec, vru_path_spec
 from vrusim.scenario.schema import Scenario
+from vrusim.sim.door import DoorArrays, pack_door
+from vrusim.sim.driver import DriverArrays, pack_driver
 from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
 from vrusim.sim.sensing.sensor_params import SensorParams, pack_sensor
 from vrusim.sim.v2x.channel_params import ChannelParams, pack_channel
@@ -74,6 +76,12 @@ class BatchParams:
     routes: PathTable
     route_offset: np.ndarray
     route_length_m: np.ndarray
+    reverse: np.ndarray
+    """The ego reverses (`ego.reverse`, bool): its simulated frame is the real body mirrored front to back."""
+    driver: DriverArrays
+    """The driver's pedal schedules (`ego.driver`, `sim/driver.py`)."""
+    door: DoorArrays
+    """The opening doors (`ego.door`, `sim/door.py`)."""
     # sensor
     sensor_enabled: np.ndarray
     sensor_range_m: np.ndarray
@@ -298,6 +306,9 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         routes=routes,
         route_offset=route_rows * routes.width,
         route_length_m=scalars["route_length_m"],
+        reverse=np.array([s.ego.reverse for s in scenarios]),
+        driver=pack_driver([s.ego for s in scenarios]),
+        door=pack_door([s.ego for s in scenarios]),
         sensor_enabled=np.array([s.sensor.enabled for s in scenarios]),
         sensor_range_m=scalars["sensor_range_m"],
         sensor_cos_half=np.cos(half_fov),
