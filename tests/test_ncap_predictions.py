@@ -9,7 +9,6 @@ pytest.importorskip("euroncap_rating_2026")
 openpyxl = pytest.importorskip("openpyxl")
 
 from ncap2026_rows import rows_for, seeded  # noqa: E402
-
 from vrusim.errors import UserInputError  # noqa: E402
 from vrusim.ncap.predictions import grouped_points, official_scores, template_cells, write_predictions  # noqa: E402
 from vrusim.ncap.rating2026 import assess_2026  # noqa: E402

@@ -207,7 +207,8 @@ def official_scores(path: str | Path) -> dict[str, dict[str, float]]:
             command = [sys.executable, "-m", "euroncap_rating_2026", "crash_avoidance", *args, "-o", "."]
             done = subprocess.run(command, cwd=work, capture_output=True, text=True, check=False)
             if done.returncode != 0:
-                raise UserInputError(f"euroncap_rating_2026 {args[0]} failed: {(done.stdout + done.stderr).strip()[-400:]}")
+                said = (done.stdout + done.stderr).strip()[-400:]
+                raise UserInputError(f"euroncap_rating_2026 {args[0]} failed: {said}")
         report = next(p for p in work.glob("ca_*_report.xlsx"))
         scenario_frame = pd.read_excel(report, sheet_name="Scenario Scores").ffill()
         stage_frame = pd.read_excel(report, sheet_name="Test Scores").ffill()
