@@ -136,7 +136,8 @@ def test_grid_lays_out_speed_by_impact_location():
 @pytest.mark.parametrize(
     ("change", "field"),
     [({"range": "wide"}, "range"), ({"protocol": "2023"}, "protocol"),
-     ({"official_scenario": "CCRs"}, "official_scenario"), ({"collided": True, "impact_speed_mps": None}, "impact_speed_mps")],
+     ({"official_scenario": "CCRs"}, "official_scenario"),
+     ({"collided": True, "impact_speed_mps": None}, "impact_speed_mps")],
 )  # fmt: skip
 def test_bad_rows_name_the_field(change, field):
     with pytest.raises(UserInputError, match=field):
