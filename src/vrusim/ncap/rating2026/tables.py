@@ -196,7 +196,7 @@ APPLICABLE_LAYERS: dict[str, tuple[str, ...]] = {
               "Obscuration / Obstruction"),
     "CBNA": (*_CROSSING, "Illumination (Night)", "Illumination (Sun glare)", "Infrastructure / Clutter"),
     "CBFA": (*_CROSSING, "Illumination (Night)", "Illumination (Sun glare)", "Infrastructure / Clutter"),
-    "CBNAO": (*_CROSSING, "Illumination (Night)", "Obscuration / Obstruction"),
+    "CBNAO": (*_CROSSING, "Illumination (Night)", "Illumination (Sun glare)", "Obscuration / Obstruction"),
     "CMRs": ("Driver input pre-crash", "Trajectory/Heading", *_COMMON, "Illumination (Night)",
              "Illumination (Sun glare)", "Infrastructure / Clutter"),
     "CMRb": ("Driver input pre-crash", "Acceleration", "Initial position offset", *_COMMON,
