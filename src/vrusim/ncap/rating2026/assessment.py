@@ -120,7 +120,7 @@ def _labels(row: Mapping[str, Any], scenario: str) -> tuple[str, str]:
     turn = _TURNS.get(str(row.get("scenario", ""))[-2:])
     if scenario.startswith(("CPTA", "CBTA")) and turn:
         parts.append(turn)
-    if row.get("function") == "FCW":
+    if row.get("function") == "FCW" and scenario in t.FCW_SCENARIOS:
         parts.append("FCW")
     if t.COLUMN_AXIS.get(scenario) == "target_speed":
         column = f"{float(row['target_speed_kph']):g} km/h"

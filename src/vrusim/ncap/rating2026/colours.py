@@ -69,8 +69,11 @@ def criterion_of(row: Mapping[str, Any]) -> str:
     if scenario in t.AVOIDANCE_SCENARIOS or row.get("function") == "avoidance":
         return t.AVOIDANCE
     if row.get("function") == "FCW":
+        if scenario in t.FCW_PLAIN_ROW_SCENARIOS:
+            return t.WARNING if row.get("planner_warns") else t.MITIGATION
         if scenario not in t.FCW_SCENARIOS:
-            raise UserInputError(f"function: FCW rows exist only in {', '.join(sorted(t.FCW_SCENARIOS))}")
+            known = sorted(t.FCW_SCENARIOS | t.FCW_PLAIN_ROW_SCENARIOS)
+            raise UserInputError(f"function: FCW rows exist only in {', '.join(known)}")
         return t.WARNING if row.get("planner_warns") else t.AVOIDANCE
     return t.MITIGATION
 

@@ -120,7 +120,10 @@ LONGITUDINAL_SCENARIOS = frozenset({"CPLA day", "CPLA night", "CBLA", "CMRs", "C
 """Scenarios whose Vrel_impact subtracts the target's longitudinal speed; in the crossing ones it is 0
 (FC26 §5.2: "for CPNA, CPFA, CPNCO, CBNA, CBFA, CBNAO the velocity component of the target is always 0")."""
 FCW_SCENARIOS = frozenset({"CPLA day", "CPLA night", "CBLA"})
-"""Scenarios with FCW rows (FC26 §5.2 criteria table)."""
+"""Scenarios with FCW rows and an FCW / AEB choice row in R26's template (FC26 §5.2 criteria table)."""
+FCW_PLAIN_ROW_SCENARIOS = frozenset({"CMRs"})
+"""Scenarios whose FCW rows (CMRs 60-80 km/h, FC26 §3.1.1.3) are plain colour cells in R26's template: a warning
+planner is judged by its warning TTC, another by the Vrel_impact bands (UNVERIFIED: R26 has no choice row)."""
 LSC_MITIGATION_SCENARIOS = frozenset({"CPMFC"})
 
 COLUMN_AXIS: dict[str, str] = {
