@@ -186,3 +186,25 @@ def test_tables_equal_the_official_calculator():
     assert sum(t.TOTAL_POINTS[s]["standard"] for s in t.SUB_ELEMENTS["LSC Pedestrian & Cyclist"]) == 10.0
     fc = sum(sum(t.TOTAL_POINTS[s].values()) for s in t.SUB_ELEMENTS["FC Pedestrian & Cyclist"])
     assert fc == pytest.approx(20.0)
+
+
+def test_cmrs_fcw_rows_are_judged_by_warning_or_bands_and_labelled_by_speed_only():
+    from vrusim.ncap.rating2026.colours import colour_of, criterion_of, kpi_of
+
+    row = {"official_scenario": "CMRs", "function": "FCW", "vut_speed_kph": 70.0, "collided": True,
+           "impact_speed_mps": 25.0 / 3.6, "target_longitudinal_speed_mps": 0.0, "planner_warns": False}  # fmt: skip
+    criterion = criterion_of(row)
+    assert colour_of(row, criterion, kpi_of(row, criterion)) == "brown"  # 25 km/h at 70: the (20, 30] band
+    warned = {**row, "planner_warns": True, "warning_ttc_s": 1.8}
+    criterion = criterion_of(warned)
+    assert colour_of(warned, criterion, kpi_of(warned, criterion)) == "green"
+    assert colour_of({**warned, "warning_ttc_s": 1.6}, criterion, 1.6) == "red"
+
+
+def test_cbda_is_yellow_when_the_door_is_held_and_red_on_contact():
+    from vrusim.ncap.rating2026.colours import colour_of, criterion_of
+
+    row = {"official_scenario": "CBDA", "function": "avoidance", "vut_speed_kph": 0.0, "collided": False}
+    assert colour_of(row, criterion_of(row), 0.0) == "yellow"
+    hit = {**row, "collided": True, "impact_speed_mps": 0.0}
+    assert colour_of(hit, criterion_of(hit), 0.0) == "red"

@@ -58,7 +58,7 @@ def criterion_of(row: Mapping[str, Any]) -> str:
     if scenario in t.LSC_MITIGATION_SCENARIOS:
         return t.LSC_MITIGATION
     if scenario == "CBDA":
-        raise UserInputError("official_scenario: CBDA (dooring) is not assessed by vrusim yet")
+        return t.LSC_DOORING
     if scenario in t.LSC_SCENARIOS:
         return t.LSC_AVOIDANCE
     if scenario not in t.FC_SCENARIOS:
@@ -106,6 +106,8 @@ def colour_of(row: Mapping[str, Any], criterion: str, kpi: float | None) -> str:
         return "green" if kpi is not None and kpi >= t.FCW_MIN_TTC_S else "red"
     if criterion == t.MITIGATION:
         return vrel_colour(float(kpi or 0.0), float(row["vut_speed_kph"] or 0.0))
+    if criterion == t.LSC_DOORING:
+        return "red" if row.get("collided") else t.DOORING_RETENTION_COLOUR
     if criterion == t.LSC_MITIGATION and kpi:
         baseline = row.get("baseline_impact_speed_mps")
         if baseline is not None:

@@ -59,7 +59,13 @@ AVOIDANCE = "avoidance (any impact red)"
 WARNING = "FCW warning TTC"
 LSC_AVOIDANCE = "LSC avoidance (any impact red)"
 LSC_MITIGATION = "LSC pedal misapplication"
-CRITERIA = (MITIGATION, AVOIDANCE, WARNING, LSC_AVOIDANCE, LSC_MITIGATION)
+LSC_DOORING = "LSC dooring (door retention)"
+CRITERIA = (MITIGATION, AVOIDANCE, WARNING, LSC_AVOIDANCE, LSC_MITIGATION, LSC_DOORING)
+DOORING_RETENTION_COLOUR = "yellow"
+"""CBDA colour of a run in which the door was held and the cyclist passed untouched: R26 `_get_dooring_color`
+caps retention of the driver's door at yellow (green needs every door; vrusim's door is the driver's, LSC26
+§3.2.3). A door opened into the cyclist is red: warning-only and information systems, which R26 judges by the
+warning TTC alone, are not modelled (UNVERIFIED)."""
 
 TOTAL_POINTS: dict[str, dict[str, float]] = {
     "CMRs": {"standard": 1.2, "extended": 0.15, "robustness": 0.15},
@@ -227,6 +233,7 @@ UNVERIFIED: tuple[str, ...] = (
     "2 km/h tolerance only on the Vrel_impact bands, not on avoidance (Vimpact) cells, as R26 does; FC26 §4.2.4 "
     "speaks of impact speeds in general",
     "CPMFC baseline: a row without `baseline_impact_speed_mps` is judged as pure avoidance (any impact red)",
+    "CBDA: retention of the driver's door without contact is yellow (R26 ceiling); warning-only systems not modelled",
     "LSC corner cases (CMCscp SfS / CMFtap SfS target > 60 km/h) score 0: R26 scores LSC only from verification "
     "rows and never verifies them; LSC26's intent (OEM evidence) may differ",
     "Monte Carlo tolerance distributions: uniform within the FC26 §4.3.2 bounds; the protocol gives bounds only",
