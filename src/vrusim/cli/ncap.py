@@ -5,7 +5,7 @@ from __future__ import annotations
 import itertools
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich import box
@@ -17,10 +17,12 @@ from vrusim.cli.options import (
     JsonOption,
     ReportOption,
     V2XSwitch,
+    file_option,
     one_planner,
     out_dir_option,
     planner_option,
     prepare_out_dir,
+    seed_option,
     v2x_switch_option,
 )
 from vrusim.cli.output import console, print_json, user_errors
@@ -30,8 +32,8 @@ from vrusim.errors import UserInputError
 if TYPE_CHECKING:
     from vrusim.ncap.assess import Assessment
 
-OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png")
-"""What `vrusim ncap --out DIR` writes."""
+OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png", "verification.json")
+"""What `vrusim ncap --out DIR` may write (verification.json: 2026 with --verify)."""
 GEOMETRY_LABELS = {
     "lateral_offset_m": "off",
     "start_to_impact_m": "d",
@@ -141,7 +143,7 @@ def list_command(protocol: ProtocolOption = None, as_json: JsonOption = False) -
 def ncap_command(
     scenario: Annotated[
         list[str] | None,
-        typer.Option("--scenario", help="Catalogue code or prefix (repeatable), e.g. CPNA-25, CPTA, CB. Default: all."),
+        typer.Option("--scenario", help="Catalogue code or prefix (repeatable), e.g. CPNA, CPTA, CB. Default: all."),
     ] = None,
     protocol: ProtocolOption = None,
     planner: Annotated[list[str] | None, planner_option("fsm")] = None,
@@ -149,19 +151,65 @@ def ncap_command(
     night: Annotated[bool, typer.Option("--night", help="Also run the night variants.")] = False,
     out: Annotated[Path | None, out_dir_option("results.csv, results.parquet and scorecard.png")] = None,
     force: ForceOption = False,
+    predictions: Annotated[
+        Path | None,
+        file_option("--predictions", "OUT.xlsx", "2026: fill Euro NCAP's prediction template (extra ncap2026)."),
+    ] = None,
+    verify: Annotated[
+        int,
+        typer.Option(
+            "--verify", metavar="DRAWS", help="2026: simulate DRAWS laboratory verifications (FC26 §4). Default: 0."
+        ),
+    ] = 0,
+    seed: Annotated[int | None, seed_option("Seed of the verification draws (default 0).")] = None,
     as_json: JsonOption = False,
     report: ReportOption = None,
 ) -> None:
-    """Run the Euro NCAP AEB VRU grid in one batch and assess it the way Euro NCAP would."""
+    """Run a Euro NCAP VRU grid in one batch and assess it the way Euro NCAP would."""
     with user_errors():
-        from vrusim.ncap.assess import assess, result_rows
-        from vrusim.ncap.grid import run_tests, select
+        from vrusim.cli.ncap2026 import check_2026_options
+        from vrusim.ncap.editions import edition
+        from vrusim.ncap.grid import select
 
         chosen = one_planner(planner, "ncap") or "fsm"
-        tests = select(scenario or [], night=night, protocol=protocol)
+        book = edition(protocol)
+        tests = select(scenario or [], night=night, protocol=book.name)
+        options = check_2026_options(book.name, predictions, verify, seed)
         if out is not None:
             _prepare_out(out, force)
         check_report_option(report)
+        if book.name == "2026":
+            _ncap_2026(tests, chosen, v2x == V2XSwitch.on, options, out, report, as_json)
+            return
+        _ncap_2023(tests, chosen, v2x, night, out, report, as_json)
+
+
+def _ncap_2026(
+    tests: list, planner: str, v2x: bool, options: Any, out: Path | None, report: Path | None, as_json: bool
+) -> None:
+    from vrusim.cli.ncap2026 import print_2026, run_2026, write_2026_outputs
+
+    with user_errors():
+        rated, elapsed = run_2026(tests, planner, v2x, options)
+        verification = rated.verify(options.verify_draws, options.seed) if options.verify_draws else None
+        written = write_2026_outputs(rated, verification, out, options.predictions)
+        if report is not None:
+            from vrusim.ncap.results2026 import result_rows_2026
+            from vrusim.report.ncap2026 import ncap_2026_report
+
+            rows = result_rows_2026(rated.catalogue_run.rows, rated.assessment, verification)
+            write_report_option(report, lambda: ncap_2026_report(rows, rated.assessment, verification), quiet=True)
+            written.append(report)
+    print_2026(rated, verification, elapsed, written, as_json)
+
+
+def _ncap_2023(
+    tests: list, chosen: str, v2x: V2XSwitch, night: bool, out: Path | None, report: Path | None, as_json: bool
+) -> None:
+    with user_errors():
+        from vrusim.ncap.assess import assess, result_rows
+        from vrusim.ncap.grid import run_tests
+
         started = time.perf_counter()
         result = run_tests(tests, planner=chosen, v2x=v2x == V2XSwitch.on)
         elapsed = time.perf_counter() - started
@@ -174,7 +222,15 @@ def ncap_command(
             write_report_option(report, lambda: ncap_report(rows, assessment), quiet=True)
             written.append(report)
     if as_json:
-        print_json({"planner": chosen, "v2x": v2x.value, "night": night, "assessment": assessment.to_dict()})
+        print_json(
+            {
+                "protocol": "2023",
+                "planner": chosen,
+                "v2x": v2x.value,
+                "night": night,
+                "assessment": assessment.to_dict(),
+            }
+        )
         return
     from vrusim.viz.scorecard import scorecard_renderables
 

@@ -1,0 +1,130 @@
+"""`vrusim ncap --protocol 2026`: run the 2026 grid, assess it (FC26 §5, LSC26), and on request write the
+predictions file for Euro NCAP's calculator and simulate the laboratory's verification."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from rich.markup import escape
+
+from vrusim.cli.output import console, print_json
+from vrusim.errors import UserInputError
+
+if TYPE_CHECKING:
+    from vrusim.ncap.build import NcapTest
+    from vrusim.ncap.rated2026 import Rated2026
+    from vrusim.ncap.verification import VerificationReport
+
+OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png", "verification.json")
+"""What `vrusim ncap --protocol 2026 --out DIR` writes (verification.json only with --verify)."""
+PREDICTION_SUFFIXES = (".xlsx",)
+
+
+@dataclass(frozen=True)
+class Options2026:
+    """The 2026-only options, checked before anything runs."""
+
+    predictions: Path | None
+    verify_draws: int
+    seed: int
+
+
+def check_2026_options(protocol: str, predictions: Path | None, verify: int, seed: int | None) -> Options2026:
+    """Refuse, before any work: 2026-only options with another edition, a bad draw count, a predictions path
+    that cannot be written, or a missing calculator extra."""
+    if protocol != "2026":
+        for option, given in (("--predictions", predictions is not None), ("--verify", verify != 0)):
+            if given:
+                raise UserInputError(f"{option}: only with --protocol 2026 (the edition is {protocol})")
+    if not 0 <= verify <= 100_000:
+        raise UserInputError(f"--verify: expected a number of draws from 0 to 100000, got {verify}")
+    if predictions is not None:
+        from vrusim.extras import extra
+        from vrusim.viz.figure_io import check_output_path
+
+        try:
+            check_output_path(predictions, PREDICTION_SUFFIXES, "predictions file")
+        except UserInputError as error:
+            raise UserInputError(f"--predictions: {error}") from None
+        with extra("ncap2026"):
+            import euroncap_rating_2026  # noqa: F401
+    return Options2026(predictions, verify, seed or 0)
+
+
+def run_2026(tests: list[NcapTest], planner: str, v2x: bool, options: Options2026) -> tuple[Rated2026, float]:
+    """Run and assess the tests (one batch); (the rating, wall seconds of the run)."""
+    from vrusim.ncap.rated2026 import rate_2026
+
+    started = time.perf_counter()
+    rated = rate_2026(tests, planner=planner, v2x=v2x)
+    return rated, time.perf_counter() - started
+
+
+def write_2026_outputs(
+    rated: Rated2026, verification: VerificationReport | None, folder: Path | None, predictions: Path | None
+) -> list[Path]:
+    """results.csv / .parquet, scorecard.png (and verification.json) in `folder`, all or none; the predictions
+    file. Returns what was written."""
+    written: list[Path] = []
+    if folder is not None:
+        written += _write_folder(rated, verification, folder)
+    if predictions is not None:
+        written.append(rated.write_predictions(predictions))
+    return written
+
+
+def _write_folder(rated: Rated2026, verification: VerificationReport | None, folder: Path) -> list[Path]:
+    import json
+
+    import pyarrow as pa
+    import pyarrow.csv as pa_csv
+    import pyarrow.parquet as pq
+
+    from vrusim.io.atomic import write_together
+    from vrusim.ncap.results2026 import result_rows_2026
+    from vrusim.viz.scorecard2026 import scorecard_2026_figure
+
+    table = pa.Table.from_pylist(result_rows_2026(rated.catalogue_run.rows, rated.assessment, verification))
+    figure = scorecard_2026_figure(rated.assessment)
+    csv_name, parquet_name, png_name, json_name = OUTPUT_FILES
+    targets = [
+        (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),
+        (folder / parquet_name, lambda temp: pq.write_table(table, temp), "results"),
+        (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
+    ]
+    if verification is not None:
+        text = json.dumps(verification.to_dict(), indent=2)
+        targets.append((folder / json_name, lambda temp: temp.write_text(text), "verification"))
+    return write_together(targets)
+
+
+def print_2026(
+    rated: Rated2026, verification: VerificationReport | None, elapsed_s: float, written: list[Path], as_json: bool
+) -> None:
+    """The scorecard on the terminal, or one JSON document."""
+    if as_json:
+        print_json(
+            {
+                "protocol": "2026",
+                "planner": rated.planner,
+                "v2x": "on" if rated.v2x else "off",
+                "assessment": rated.assessment.to_dict(),
+                "verification": None if verification is None else verification.to_dict(),
+            }
+        )
+        return
+    from vrusim.viz.scorecard2026 import scorecard_2026_renderables
+
+    terminal = console()
+    for renderable in scorecard_2026_renderables(rated.assessment, verification):
+        terminal.print(renderable)
+    run = rated.catalogue_run.run
+    terminal.print(
+        f"{len(rated.catalogue_run.rows)} tests (protocol 2026), planner {rated.planner}, "
+        f"V2X {'on' if rated.v2x else 'off'}: simulated in one batch in {elapsed_s:.2f} s ({run.steps} steps)."
+    )
+    for path in written:
+        terminal.print(f"Wrote {escape(str(path))}")
