@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
-from vrusim.ncap.first_contact import front_first_contact, side_first_contact
+from vrusim.ncap.first_contact import front_first_contact, side_first_contact_at
 from vrusim.ncap.protocol import (
     DUMMIES,
     KPH,
@@ -338,10 +338,11 @@ def _first_contact(test: NcapTest, geometry: dict, point: np.ndarray, direction:
     nominal = np.array([point[0], LANE_Y_M + travel * left])
     if spec.impact_side != "front":  # the nominal side point on the target path; the circle comes along it
         axle = nominal - np.array([travel * along, travel * left])
-        line = np.array([[axle[0], axle[1], travel, 0.0, 0.0], [axle[0] + travel, axle[1], travel, 0.0, 0.0]])
-        impact = side_first_contact(line, 0.0, geometry, nominal, direction)
-        ahead = travel * (impact[0] - nominal[0])
-        return _Contact(impact, along + ahead - to_centre, travel * (impact[1] - axle[1]), along)
+        shift = np.arange(0.0, 20.0 + SAMPLE_SPACING_M / 2, SAMPLE_SPACING_M) - 10.0  # the axle at station 10 m
+        line = np.column_stack([axle[0] + travel * shift, np.full_like(shift, axle[1]), np.full_like(shift, travel)])
+        line = np.column_stack([line, np.zeros((len(shift), 2))])
+        station, impact, local = side_first_contact_at(line, 10.0, geometry, nominal, direction)
+        return _Contact(impact, float(local[0]), float(local[1]), along + 10.0 - station)
     gap = straight_gap_m(left, travel * direction, geometry["radius_m"], geometry["centre_ahead_m"])
     return _Contact(nominal, along + gap - to_centre, left, along + gap)
 
@@ -492,15 +493,8 @@ def _turn_probe(test: NcapTest, geometry: dict, point: np.ndarray, direction: np
         station, impact, ahead = front_first_contact(samples, geometry, point, direction)
         return _Contact(impact, along + ahead - rear_to_centre, left, turn=(station, turn_start_x))
     station, crossing = _crossing(samples, along, left, point, direction)
-    impact = side_first_contact(samples, station, geometry, crossing, direction)
-    k = station / SAMPLE_SPACING_M
-    i = int(k)
-    pose = samples[i] + (k - i) * (samples[i + 1] - samples[i])
-    tangent = pose[2:4] / math.hypot(*pose[2:4])
-    rel = impact - pose[:2]
-    local_x = rel[0] * tangent[0] + rel[1] * tangent[1] - rear_to_centre
-    local_y = -rel[0] * tangent[1] + rel[1] * tangent[0]
-    return _Contact(impact, float(local_x), float(local_y), turn=(station, turn_start_x))
+    station, impact, local = side_first_contact_at(samples, station, geometry, crossing, direction)
+    return _Contact(impact, float(local[0]), float(local[1]), turn=(station, turn_start_x))
 
 
 def obstruction_cars(kind: str, path_point: np.ndarray, dummy: Dummy) -> list[dict]:

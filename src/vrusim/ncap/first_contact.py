@@ -27,7 +27,7 @@ BISECTIONS = 24
 SUBSAMPLES = 400
 """Poses tried inside the bracketing route sample, then interpolated (0.2 m / 400 = 0.5 mm before
 interpolation: below the 1 mm goal)."""
-SIDE_SEARCH_M = 4.0
+SIDE_SEARCH_M = 5.0
 """How far back along its path a side-impact target's approach is searched, m."""
 
 
@@ -40,7 +40,7 @@ def _normalised(tangent: np.ndarray) -> np.ndarray:
 
 
 def _front_probe(
-    xy: np.ndarray, tangent: np.ndarray, geometry: dict, point: np.ndarray, direction: np.ndarray
+    xy: np.ndarray, tangent: np.ndarray, geometry: dict, point: np.ndarray, direction: np.ndarray, heading: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For rear-axle poses [N]: (clearance, reference point [N, 2], its distance ahead of the VUT point along the
     heading) with the reference point on the target path where the VUT's nominal lateral line crosses it."""
@@ -52,7 +52,7 @@ def _front_probe(
         ahead = _cross(rel[:, 0], rel[:, 1], direction[0], direction[1]) / denom
     ahead = np.where(np.abs(denom) > 1e-9, ahead, np.inf)
     ref = vut_point + np.where(np.isfinite(ahead), ahead, 0.0)[:, None] * tangent
-    centre = ref + geometry["centre_ahead_m"] * direction
+    centre = ref + geometry["centre_ahead_m"] * heading
     rect = xy + geometry["rear_to_centre_m"] * tangent
     clearance = rectangle_circle_clearance(
         rect[:, 0], rect[:, 1], tangent[:, 0], tangent[:, 1], geometry["half_length_m"], geometry["half_width_m"],
@@ -83,7 +83,7 @@ def _pose(samples: np.ndarray, station_m: float) -> tuple[np.ndarray, np.ndarray
 
 
 def front_first_contact(
-    samples: np.ndarray, geometry: dict, point: np.ndarray, direction: np.ndarray
+    samples: np.ndarray, geometry: dict, point: np.ndarray, direction: np.ndarray, heading: np.ndarray | None = None
 ) -> tuple[float, np.ndarray, float]:
     """First route station (m) at which the target's contact circle, with its reference point on the target path
     (through `point` along unit `direction`) where the VUT's nominal lateral line meets it, touches the VUT
@@ -91,11 +91,13 @@ def front_first_contact(
 
     `geometry`: along_m / left_m (the VUT's nominal point from the rear axle, simulated frame), rear_to_centre_m,
     half_length_m, half_width_m (the rectangle), centre_ahead_m (circle centre ahead of the reference point
-    along `direction`) and radius_m.
+    along the target's `heading`, default `direction`) and radius_m. A target moving along the VUT's lateral
+    line (longitudinal tests) passes the line through its collision point across the VUT path as `direction`.
     """
+    heading = direction if heading is None else heading
 
     def clearance_at(xy, tangent):
-        return _front_probe(xy, tangent, geometry, point, direction)[0]
+        return _front_probe(xy, tangent, geometry, point, direction, heading)[0]
 
     clearance = clearance_at(samples[:, :2], samples[:, 2:4])
     touching = np.flatnonzero(clearance <= 0.0)
@@ -105,7 +107,7 @@ def front_first_contact(
     frac = _refine(samples[i - 1], samples[i], clearance_at) if i > 0 else 0.0
     station = (i - 1 + frac) * SAMPLE_SPACING_M if i > 0 else 0.0
     xy, tangent = _pose(samples, station)
-    _, ref, ahead = _front_probe(xy[None], tangent[None], geometry, point, direction)
+    _, ref, ahead = _front_probe(xy[None], tangent[None], geometry, point, direction, heading)
     return station, ref[0], float(ahead[0])
 
 
@@ -135,6 +137,36 @@ def side_first_contact(
     c0, c1 = clearance[j - 1], clearance[j]
     found = fine[j - 1] + (fine[j] - fine[j - 1]) * c0 / (c0 - c1)
     return crossing - found * direction
+
+
+def side_first_contact_at(
+    samples: np.ndarray, station_m: float, geometry: dict, crossing: np.ndarray, direction: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """Side impacts, exactly: starting from `station_m` (the nominal side point on the target path at
+    `crossing`), the route station at which the circle's first touch (`side_first_contact`) has the reference
+    point at the nominal length fraction (`geometry["along_m"]` from the rear axle). Secant iteration to 0.1 mm.
+
+    Returns (station, reference point (world, m), reference point in the VUT frame from the rectangle centre).
+    """
+    anchor = crossing + direction  # a point of the path beyond the contact; the search starts behind it
+
+    def miss(station: float) -> tuple[float, np.ndarray, np.ndarray]:
+        xy, tangent = _pose(samples, station)
+        ref = side_first_contact(samples, station, geometry, anchor, direction)
+        rel = ref - xy
+        local = np.array([rel @ tangent, -rel[0] * tangent[1] + rel[1] * tangent[0]])
+        return local[0] - geometry["along_m"], ref, local - [geometry["rear_to_centre_m"], 0.0]
+
+    s0, s1 = station_m, station_m + 0.05
+    f0, ref, local = miss(s0)
+    for _ in range(12):
+        if abs(f0) < 1e-4:
+            break
+        f1, ref1, local1 = miss(s1)
+        if f1 == f0:
+            break
+        s0, s1, f0, ref, local = s1, s1 - f1 * (s1 - s0) / (f1 - f0), f1, ref1, local1
+    return s0, ref, local
 
 
 def reference_point_at_first_contact(built: Sequence[BuiltTest], run: BatchRun) -> np.ndarray:
