@@ -175,3 +175,16 @@ def test_the_closed_form_on_straight_roads_agrees_with_the_general_solver():
         assert station == pytest.approx(15.0 - ahead, abs=1e-3)
         if spec.headway_s == 0:  # a braking lead meets the VUT elsewhere (its own timing)
             assert ref == pytest.approx([built.nominal.impact_x_m, built.nominal.impact_y_m], abs=1e-9)
+
+
+def test_cbfa_parked_pair_ends_at_the_steady_state_point():
+    """CBFA (V23 / FC26 Fig. 3-27): SUV nearest the junction, its junction-side end 22 m from the collision point
+    (VUT lane centre line y = -1.75 m) along the farside arm, 1.0 m clear of the cyclist (path x = -1.75 m,
+    half width 0.25 m) on the VUT's side; the small car 0.2 m beyond it."""
+    scenario = build_test(select(["CBFA-50"], protocol="2023")[0], planner="none").scenario
+    suv, small = scenario.obstacles
+    assert (suv.kind, small.kind) == ("SUV", "small car")
+    assert suv.centre.y_m - suv.length_m / 2 == pytest.approx(-1.75 + 22.0)
+    assert small.centre.y_m - small.length_m / 2 == pytest.approx(suv.centre.y_m + suv.length_m / 2 + 0.2)
+    for car in (suv, small):
+        assert car.centre.x_m + car.width_m / 2 == pytest.approx(-1.75 - 0.25 - 1.0)
