@@ -11,7 +11,7 @@ y, unit tangent x, y, curvature); `reference_point_at_first_contact` measures th
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -20,7 +20,6 @@ from vrusim.geometry.paths import SAMPLE_SPACING_M
 
 if TYPE_CHECKING:
     from vrusim.engine.simulate import BatchRun
-    from vrusim.ncap.build import BuiltTest
 
 BISECTIONS = 24
 """Bisection steps inside one trace step (measurement)."""
@@ -169,9 +168,10 @@ def side_first_contact_at(
     return s0, ref, local
 
 
-def reference_point_at_first_contact(built: Sequence[BuiltTest], run: BatchRun) -> np.ndarray:
+def reference_point_at_first_contact(built: Sequence[Any], run: BatchRun) -> np.ndarray:
     """Where each test's target reference point is at the first contact of a traced run: [B, 2] (m ahead of the
-    VUT rectangle centre, m left of it; simulated frame), NaN where the bodies never touch.
+    VUT rectangle centre, m left of it; simulated frame), NaN where the bodies never touch. `built`: the
+    `ncap.build.BuiltTest`s of the batch, in order.
 
     Read from the trace (`simulate(..., trace=True)`): the VRU centre and the VUT pose at the first step whose
     clearance is <= 0, interpolated linearly within that step to the instant the clearance reaches 0
