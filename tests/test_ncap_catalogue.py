@@ -1,8 +1,8 @@
 """Euro NCAP catalogue: with no reaction (planner `none`) every test of every family meets its nominal impact.
 
-At the nominal impact instant the target's reference point must sit on the VUT's leading edge (front; rear
-when reversing) at the protocol's impact location, within ±0.05 m both across and along the VUT, with the
-target at its steady speed, and the bodies must touch.
+The nominal impact instant is the first contact of the bodies (FC26; tests/test_ncap_sync.py): at it the
+target's reference point must sit at its designed place on the VUT (across: the protocol's impact location)
+within ±0.05 m both across and along the VUT, with the target at its steady speed.
 """
 
 from __future__ import annotations
@@ -21,9 +21,9 @@ from vrusim.ncap.grid import run_tests, select
 from vrusim.scenario.routes import ego_route_spec
 
 TOLERANCE_M = 0.05
-CONTACT_LEAD_S = 0.35
-"""First contact may precede the nominal instant by the time the VUT needs to cover the footprint's extent in
-front of the reference point (largest: the 1 m e-scooter footprint at 10 km/h, 0.28 s)."""
+CONTACT_LEAD_S = 0.011
+"""The nominal instant is the first contact (synchronisation at first contact, tests/test_ncap_sync.py); the
+engine reports it within one step."""
 
 
 def _families() -> list[str]:
@@ -68,8 +68,7 @@ def test_every_test_meets_its_nominal_impact_location(code):
         if b.test.spec.headway_s == 0:  # a braking target is, by design, not steady at the impact
             speed = _interp(t, trace["vru_speed_mps"][:, b_index, 0], at)
             assert speed == pytest.approx(b.test.target_speed_mps, abs=1e-6), f"{test_id}: not steady"
-        # the bodies first touch shortly before the nominal instant (the footprint reaches the VUT before
-        # the reference point does), never after it
+        # the bodies first touch at the nominal instant
         contact = run.metrics.contact_time_s[b_index]
         assert run.metrics.collided[b_index], f"{test_id}: no contact"
         assert at - CONTACT_LEAD_S <= contact <= at + 0.01, f"{test_id}: contact at {contact:.3f}, nominal {at:.3f}"

@@ -1,21 +1,24 @@
 """Turn one Euro NCAP catalogue test (scenario × VUT speed × variant × lighting) into an executable Scenario.
 
 World frame: the VUT approaches along +x in the right lane (y = -lane/2) of a two-lane road (or a junction
-centred on the origin). Every target is synchronised so that, if the VUT does not react, its reference point
-meets the nominal impact location on the VUT front (rear when reversing): we find the route station where
-that point of the VUT crosses the target's path, and start the target — with a route-distance trigger —
-exactly its travel time earlier. Geometry choices are listed in docs/euroncap.md.
+centred on the origin). Every target is synchronised at first contact (FC26 Definitions, §1.2.5): if the VUT
+does not react, the VUT rectangle first touches the target's contact circle with the target's reference point
+at the nominal impact location. We find that route station (closed form on straight roads,
+`ncap.first_contact` on turns) and start the target — with a route-distance trigger — exactly its travel time
+earlier. Geometry choices are listed in docs/euroncap.md.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
 from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
+from vrusim.ncap.first_contact import front_first_contact, side_first_contact_at
 from vrusim.ncap.protocol import (
     DUMMIES,
     KPH,
@@ -55,7 +58,9 @@ RSU_COMM_RANGE_M, RSU_COVERAGE_M = 250.0, 40.0
 SENSOR_RANGE_M, SENSOR_FOV_DEG = 20.0, 120.0
 """The onboard sensor of the VUT: the paper's default sector (day)."""
 REVERSE_START_M = 10.0
-"""A reversing VUT starts this far before the collision point (V23; not given by the protocol)."""
+"""A reversing VUT starts with its rear axle this far before the collision point: V23 `Ego_initDist` (the rear
+axle, OpenSCENARIO's reference point, is placed 10 m from L; not given by v4.5.1). The bumper starts
+REVERSE_START_M - rear overhang away; LSC26 §3.2.2.1 measures reversing gaps from the VUT's rearmost point."""
 BRAKE_AFTER_S = 1.5
 """CMRb: the motorcycle starts braking this long into the run (T0 = braking onset - 1 s, FC26)."""
 INSTANT_ACCEL_MPS2 = 1e3
@@ -105,9 +110,11 @@ class Nominal:
     impact_y_m: float
     time_s: float
     local_x_m: float
-    """The nominal impact location in the simulated VUT frame: ahead of the rectangle centre, m ..."""
+    """Where the target's reference point is at first contact, in the simulated VUT frame: ahead of the
+    rectangle centre, m (front impacts: the leading edge plus the circle's reach) ..."""
     local_y_m: float
-    """... and left of it, m (a reversing VUT is simulated mirrored: its travel direction is ahead)."""
+    """... and left of it, m (front impacts: the impact location; a reversing VUT is simulated mirrored: its
+    travel direction is ahead)."""
     ref_behind_centre_m: float
     """The reference point lies this far behind the footprint centre along the target's heading, m."""
     target_heading_rad: float
@@ -245,18 +252,34 @@ def _time_to_impact_from_rest(distance_m: float, accel_m: float, speed_mps: floa
     return 2 * accel_m / speed_mps + (distance_m - accel_m) / speed_mps
 
 
+@dataclass(frozen=True)
+class _Contact:
+    """The designed first contact: the reference point then (world), its place in the simulated VUT frame, and
+    where the VUT is: straight roads by `reach_m`, turns by (route distance from the turn start, turn start x)."""
+
+    impact: np.ndarray
+    local_x_m: float
+    local_y_m: float
+    reach_m: float = 0.0
+    """Straight roads: the target path lies this far ahead of the rear axle (along the travel) at contact, m."""
+    turn: tuple[float, float] | None = None
+
+
 def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> BuiltTest:
-    """The executable Scenario of one catalogue test, and its nominal impact."""
+    """The executable Scenario of one catalogue test, and its nominal impact (at first contact)."""
     spec = test.spec
     v = test.cell.vut_speed_kph * KPH
     along, left = _vut_point(test)
     kind = _target_travel(test)
     point, direction = _target_line(test)
-    impact, turn = _impact_point(test, along, left, point, direction)
-    start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
-    ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), turn)
-    impact_time = station / v
+    if kind == "still" and spec.layout == "reverse":  # standing with its back to the VUT's path side: facing -y
+        direction = np.array([0.0, -1.0])
     radius, centre_ahead = _footprint(test)
+    contact = _first_contact(test, _geometry(test, along, left, radius, centre_ahead), point, direction)
+    impact = contact.impact
+    start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
+    ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), contact)
+    impact_time = station / v
     vru: dict[str, Any] = {"type": test.dummy.vru_type.value, "radius_m": radius, "speed_time_constant_s": 0.0}
     v_target = test.target_speed_mps
     steady_from = 0.0
@@ -276,8 +299,6 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
         vru.update(top_speed_mps=v_target, initial_speed_mps=v_target, trigger={"at_time_s": 0.0})
     elif kind == "still":
         vru.update(top_speed_mps=0.0)
-        if spec.layout == "reverse":  # standing with its back to the VUT's path side: facing -y
-            direction = np.array([0.0, -1.0])
     else:
         start, impact, impact_time = _braking_lead(test, v, station, left, vru)
         ego["route"]["length_m"] = float(impact[0] - (point[0] - station)) + EXIT_LENGTH_M
@@ -285,32 +306,68 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
     heading = math.atan2(direction[1], direction[0])
     vru.update(start={"x_m": float(centre[0]), "y_m": float(centre[1])}, heading_deg=math.degrees(heading))
     scenario = Scenario.model_validate(_scenario_mapping(test, planner, v2x, ego, vru, impact, impact_time))
-    rear_to_centre = _ego_geometry(spec.layout == "reverse")[1]
     nominal = Nominal(
-        float(impact[0]), float(impact[1]), impact_time, along - rear_to_centre, left, centre_ahead, heading,
-        steady_from,
+        float(impact[0]), float(impact[1]), impact_time, contact.local_x_m, contact.local_y_m, centre_ahead,
+        heading, steady_from,
     )  # fmt: skip
     return BuiltTest(test, scenario, nominal)
 
 
-def _impact_point(
-    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
-) -> tuple[np.ndarray, tuple[float, float] | None]:
-    """Nominal impact point (world, m) and, for turns, (route distance from the start of the turn to the
-    impact, x of the turn start). On straight roads the impact lies on the plane x = point x."""
+def _geometry(test: NcapTest, along: float, left: float, radius: float, centre_ahead: float) -> dict:
+    """The contact geometry of a test for `ncap.first_contact` (simulated VUT frame, m)."""
+    return {
+        "along_m": along,
+        "left_m": left,
+        "rear_to_centre_m": _ego_geometry(test.spec.layout == "reverse")[1],
+        "half_length_m": VUT["length_m"] / 2,
+        "half_width_m": VUT["width_m"] / 2,
+        "centre_ahead_m": centre_ahead,
+        "radius_m": radius,
+    }
+
+
+def _first_contact(test: NcapTest, geometry: dict, point: np.ndarray, direction: np.ndarray) -> _Contact:
+    """Where the target's reference point is when, without a VUT reaction, the VUT rectangle first touches the
+    target's contact circle: on the VUT's nominal lateral line (front and rear impacts) or, for side impacts,
+    where the circle first touches the VUT whose nominal side point is on the target path."""
     spec = test.spec
     if spec.layout in ("turning", "oncoming"):
-        station, impact, turn_start_x = _turn_probe(test, along, left, point, direction)
-        return impact, (station, turn_start_x)
-    travel_left = -1.0 if spec.layout == "reverse" else 1.0  # the left of a VUT travelling -x is -y
-    return np.array([point[0], LANE_Y_M + travel_left * left]), None
+        return _turn_probe(test, geometry, point, direction)
+    travel = -1.0 if spec.layout == "reverse" else 1.0  # the left of a VUT travelling -x is -y
+    along, left, to_centre = geometry["along_m"], geometry["left_m"], geometry["rear_to_centre_m"]
+    nominal = np.array([point[0], LANE_Y_M + travel * left])
+    if spec.impact_side != "front":  # the nominal side point on the target path; the circle comes along it
+        axle = nominal - np.array([travel * along, travel * left])
+        shift = np.arange(0.0, 20.0 + SAMPLE_SPACING_M / 2, SAMPLE_SPACING_M) - 10.0  # the axle at station 10 m
+        line = np.column_stack([axle[0] + travel * shift, np.full_like(shift, axle[1]), np.full_like(shift, travel)])
+        line = np.column_stack([line, np.zeros((len(shift), 2))])
+        station, impact, local = side_first_contact_at(line, 10.0, geometry, nominal, direction)
+        return _Contact(impact, float(local[0]), float(local[1]), along + 10.0 - station)
+    gap = straight_gap_m(left, travel * direction, geometry["radius_m"], geometry["centre_ahead_m"])
+    return _Contact(nominal, along + gap - to_centre, left, along + gap)
+
+
+def straight_gap_m(left_m: float, direction: np.ndarray, radius_m: float, centre_ahead_m: float) -> float:
+    """How far ahead of a straight-driving VUT's leading edge the target's reference point is at first contact,
+    m, with the reference point on the VUT's nominal lateral line `left_m` (closed form; `direction`: the
+    target's heading in the VUT frame). Contact on the flat face: the circle touches when its centre is one
+    radius ahead of the edge (as the virtual box would); beyond the edge's end it touches the corner."""
+    centre_left = left_m + centre_ahead_m * direction[1]
+    beyond = max(abs(centre_left) - VUT["width_m"] / 2, 0.0)
+    if beyond >= radius_m:
+        raise ValueError("the target's contact circle passes beside the VUT")
+    return math.sqrt(radius_m**2 - beyond**2) - centre_ahead_m * direction[0]
 
 
 def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, float]:
-    """Start of the reference point of a target starting from rest, and its time to the impact, s."""
+    """Start of the reference point of a target starting from rest, and its time to the impact, s.
+
+    Crossing targets reach their steady speed `lateral_offset_m - accel_distance_m` before the impact point
+    (FC26 §3.2.3 figures, V23 `TargetDistanceSteadyState`): the steady stretch is counted back from the impact,
+    so the start moves with the impact location."""
     spec = test.spec
-    if spec.layout == "crossing":  # lateral_offset_m: from the VUT path centre line
-        start = np.array([impact[0], LANE_Y_M - spec.lateral_offset_m * direction[1]])
+    if spec.layout == "crossing":
+        start = impact - direction * spec.lateral_offset_m
     elif spec.layout == "longitudinal":
         start = impact - direction * (spec.accel_distance_m + spec.steady_distance_m)
     else:
@@ -319,22 +376,24 @@ def _start_from_rest(test: NcapTest, impact: np.ndarray, direction: np.ndarray) 
     return start, _time_to_impact_from_rest(distance, spec.accel_distance_m, test.target_speed_mps)
 
 
-def _vut(test: NcapTest, v: float, lead_time_s: float, turn: tuple[float, float] | None) -> tuple[dict, float]:
-    """The VUT mapping, started `lead_time_s` (at its test speed) before the impact, and the rear-axle route
-    distance at the nominal impact (m). Reversing tests start 10 m before the collision point (V23)."""
+def _vut(test: NcapTest, v: float, lead_time_s: float, contact: _Contact) -> tuple[dict, float]:
+    """The VUT mapping, started `lead_time_s` (at its test speed) before the first contact, and the rear-axle
+    route distance at the first contact (m). Reversing tests start with the rear axle REVERSE_START_M before
+    the collision point (V23)."""
     spec = test.spec
     reverse = spec.layout == "reverse"
-    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
-    if turn is not None:
-        station_from_turn, turn_start_x = turn
+    rear_to_centre = _ego_geometry(reverse)[1]
+    if contact.turn is not None:
+        station_from_turn, turn_start_x = contact.turn
         approach = max(v * lead_time_s - station_from_turn, 5.0)
         start_x = turn_start_x - approach + rear_to_centre
         route = _turn_route(test, approach, EXIT_LENGTH_M)
         station = approach + station_from_turn
     else:
-        station = REVERSE_START_M if reverse else max(v * lead_time_s, 5.0)
+        # reversing: the simulated rear axle is the real front axle, a wheelbase behind the real rear axle
+        station = REVERSE_START_M + VUT["wheelbase_m"] - contact.reach_m if reverse else max(v * lead_time_s, 5.0)
         travel = -1.0 if reverse else 1.0
-        start_x = _target_line(test)[0][0] - travel * (station + rear_to_edge - rear_to_centre)
+        start_x = _target_line(test)[0][0] - travel * (station + contact.reach_m - rear_to_centre)
         route = {"kind": "straight", "length_m": station + EXIT_LENGTH_M}
     ego = {**VUT, "start": {"x_m": start_x, "y_m": LANE_Y_M, "heading_deg": 0.0}, "cruise_speed_mps": v}
     ego["route"] = route
@@ -401,24 +460,41 @@ def _scenario_mapping(
     return mapping
 
 
-def _turn_probe(
-    test: NcapTest, along: float, left: float, point: np.ndarray, direction: np.ndarray
-) -> tuple[float, np.ndarray, float]:
-    """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into.
-
-    Returns (route distance from the start of the turn to the impact, impact point, x of the turn start).
-    """
+@lru_cache(maxsize=64)
+def _placed_turn_cached(side: str, speed_kph: float) -> tuple[np.ndarray, float]:
     rear_to_centre = _ego_geometry(False)[1]
-    route = ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, 0.0, EXIT_LENGTH_M)
+    route = ncap_turn_route(side, speed_kph, 0.0, EXIT_LENGTH_M)
     probe = {**VUT, "start": {"x_m": rear_to_centre, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
     probe["route"] = route.model_dump()
     samples = _route_samples(probe)
     exit_x = samples[math.ceil(route.turn_length_m / SAMPLE_SPACING_M), 0]  # where the exit straight begins
-    turn_start_x = (LANE_WIDTH_M / 2 if test.spec.turn == "farside" else -LANE_WIDTH_M / 2) - exit_x
+    turn_start_x = (LANE_WIDTH_M / 2 if side == "farside" else -LANE_WIDTH_M / 2) - exit_x
     samples[:, 0] += turn_start_x
     samples[:, 1] += LANE_Y_M
-    station, impact = _crossing(samples, along, left, point, direction)
-    return station, impact, turn_start_x
+    samples.setflags(write=False)
+    return samples, float(turn_start_x)
+
+
+def _placed_turn(side: str | None, speed_kph: float) -> tuple[np.ndarray, float]:
+    """The sampled rear-axle route of the protocol turn from its start (read-only, cached), placed so the rear
+    axle leaves it on the centre line of the right lane of the road turned into; and x of the turn start."""
+    if side is None:
+        raise ValueError("a turning test needs its turn side")
+    return _placed_turn_cached(side, float(speed_kph))
+
+
+def _turn_probe(test: NcapTest, geometry: dict, point: np.ndarray, direction: np.ndarray) -> _Contact:
+    """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into,
+    and find the first contact on it (`ncap.first_contact`)."""
+    rear_to_centre = geometry["rear_to_centre_m"]
+    samples, turn_start_x = _placed_turn(test.spec.turn, test.cell.vut_speed_kph)
+    along, left = geometry["along_m"], geometry["left_m"]
+    if test.spec.impact_side == "front":
+        station, impact, ahead = front_first_contact(samples, geometry, point, direction)
+        return _Contact(impact, along + ahead - rear_to_centre, left, turn=(station, turn_start_x))
+    station, crossing = _crossing(samples, along, left, point, direction)
+    station, impact, local = side_first_contact_at(samples, station, geometry, crossing, direction)
+    return _Contact(impact, float(local[0]), float(local[1]), turn=(station, turn_start_x))
 
 
 def obstruction_cars(kind: str, path_point: np.ndarray, dummy: Dummy) -> list[dict]:

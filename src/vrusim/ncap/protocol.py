@@ -238,7 +238,16 @@ OBSTRUCTIONS: dict[str, Obstruction] = {
     "CPNCO": Obstruction(("small car", "SUV"), True, 1.0, 1.0, 1.0, "V23 CPNCO (I = J = 1 m); FC26 §3.2.3.1"),
     "CBNA": Obstruction(("SUV", "small car"), False, 1.0, 17.0, 0.2, "V23 CBNA (row ends at D = 17 m)"),
     "CBNAO": Obstruction(("SUV", "small car"), False, 4.8, 3.55, 0.2, "V23 CBNAO (I = 3.55 m, J = 4.8 m)"),
-    "CBFA": Obstruction(("SUV", "small car"), False, 1.0, 22.0, 0.2, "V23 CBFA; placement UNVERIFIED (vectorgrp #15)"),
+    "CBFA": Obstruction(
+        ("SUV", "small car"),
+        False,
+        1.0,
+        22.0,
+        0.2,
+        "FC26 §3.2.3.2 Fig. 3-27 (SUV nearest the junction, 0.1-0.3 m gap) with Appendix B cars; V23 CBFA: SUV rear"
+        " axle at CP - 22 m - rear overhang, turned 180°, so its junction-side end is at the 22 m steady-state"
+        " point (vectorgrp #15 closed: no sign error); distances from the figure UNVERIFIED (image only)",
+    ),
     # 2026, CMCscp standard range only (nearside approach; the farside row, 5.5 m off, needs builder support)
     "CMCscp": Obstruction(
         ("SUV", "small car", "small car"),
