@@ -3,11 +3,13 @@
 Without a VUT reaction the VUT rectangle must first touch the target's contact circle with the target's
 reference point at the nominal impact location: across the leading edge at the impact location (front and rear
 impacts), along the side at the impact location of the length (side impacts). Measured from traced runs of the
-whole 2023 catalogue, and checked against hand-computed first contacts for three cases.
+whole 2023 catalogue and every 2026 test with a moving VUT (the low-speed layouts have tests of their own,
+tests/test_ncap_low_speed_build.py), and checked against hand-computed first contacts.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -15,7 +17,7 @@ import pytest
 
 from vrusim.engine.simulate import simulate
 from vrusim.ncap.build import VUT, build_test
-from vrusim.ncap.editions.v2023 import SCENARIOS
+from vrusim.ncap.editions import edition
 from vrusim.ncap.first_contact import reference_point_at_first_contact
 from vrusim.ncap.grid import select
 from vrusim.ncap.protocol import KPH
@@ -24,9 +26,21 @@ TOLERANCE_M = 0.05
 LENGTH, WIDTH = VUT["length_m"], VUT["width_m"]
 
 
-@pytest.fixture(scope="module")
-def catalogue():
-    built = [build_test(test, planner="none") for test in select(protocol="2023", night=False)]
+LOW_SPEED_LAYOUTS = ("standstill_start", "pedal_misapplication", "dooring")
+"""Layouts of LSC26 tests whose VUT starts from rest or stands (checked in tests/test_ncap_low_speed_build.py)."""
+FAMILIES = [
+    (name, spec.code)
+    for name in ("2023", "2026")
+    for spec in edition(name).scenarios
+    if spec.layout not in LOW_SPEED_LAYOUTS and any(cell.vut_speed_kph > 0 for cell in spec.cells)
+]
+
+
+@functools.cache
+def _catalogue(protocol: str):
+    """Every day test of the edition's FAMILIES, built for `none` and run as one traced batch."""
+    tests = [t for t in select(protocol=protocol, night=False) if (protocol, t.spec.code) in FAMILIES]
+    built = [build_test(test, planner="none") for test in tests]
     run = simulate([b.scenario for b in built], trace=True)
     return built, run, reference_point_at_first_contact(built, run)
 
@@ -39,10 +53,10 @@ def _protocol_location(test) -> tuple[str, float]:
     return "across", -across if test.spec.layout == "reverse" else across
 
 
-@pytest.mark.parametrize("code", [s.code for s in SCENARIOS])
-def test_every_cell_first_touches_with_the_reference_point_at_the_nominal_location(catalogue, code):
-    built, run, offsets = catalogue
-    cells = [i for i, b in enumerate(built) if b.test.spec.code == code]
+@pytest.mark.parametrize("family", FAMILIES, ids=[f"{name}:{code}" for name, code in FAMILIES])
+def test_every_cell_first_touches_with_the_reference_point_at_the_nominal_location(family):
+    built, run, offsets = _catalogue(family[0])
+    cells = [i for i, b in enumerate(built) if b.test.spec.code == family[1]]
     assert cells
     for i in cells:
         b = built[i]
@@ -145,6 +159,31 @@ def test_reversing_vut_first_touches_the_crossing_child_at_half_its_rear_width()
     hip_y = _at(run, "vru_y_m", expected_t) - 0.0405
     assert hip_y == pytest.approx(-1.75, abs=0.01)
     assert offset == pytest.approx([LENGTH / 2 + 0.149, 0.0], abs=0.01)
+
+
+def test_motorcycle_front_wheel_first_touches_the_vut_side_at_90_percent_of_its_length():
+    """2026 CMCscp, VUT 30 km/h along +x on y = -1.75, EMT 50 km/h from the nearside (heading +y). By hand: the
+    EMT circle (r = 0.395 m, half its 0.79 m width) sits r behind the front of the front wheel (the crossing
+    reference, FC26 §1.4.1.3); it first touches the right face y = -1.75 - 0.9 = -2.65 with its top point when
+    the wheel front is on the face. 90 % of the 4.5 m length from the rear is 4.05 - 2.25 = 1.8 m ahead of the
+    VUT's centre, so at contact the VUT centre is at x_path - 1.8 and the wheel front at (x_path, -2.65):
+    contact after (x_path - 1.8 - x_0) / v_vut, and the EMT has come from its start at 50 km/h."""
+    test = next(
+        t
+        for t in select(["CMCscp"], protocol="2026")
+        if t.spec.code == "CMCscp" and t.cell.vut_speed_kph == 30.0 and t.cell.target_speed_kph == 50.0
+    )
+    built = build_test(test, planner="none")
+    run = simulate([built.scenario], trace=True)
+    vru = built.scenario.vrus[0]
+    x_path = vru.start.x_m
+    v, v_emt = 30.0 * KPH, 50.0 * KPH
+    expected_t = (x_path - 1.8 - built.scenario.ego.start.x_m) / v
+    wheel_front_y0 = vru.start.y_m + 0.395
+    assert wheel_front_y0 + v_emt * expected_t == pytest.approx(-2.65, abs=1e-6)
+    assert run.metrics.contact_time_s[0] == pytest.approx(expected_t, abs=0.011)
+    offset = reference_point_at_first_contact([built], run)[0]
+    assert offset == pytest.approx([1.8, -0.9], abs=0.01)
 
 
 def test_the_closed_form_on_straight_roads_agrees_with_the_general_solver():

@@ -158,8 +158,9 @@ def _footprint(test: NcapTest) -> tuple[float, float]:
 
     The circle has the target's half width and sits at the part of the target that meets the VUT: against
     the rear face for targets ahead (reference: rear of the rear wheel / back), against the front face where
-    the reference is the front of the front wheel (turning and oncoming cyclists and motorcycles), else at the
-    box centre (crossing targets; pedestrians in turns, whose reference is the hip).
+    the reference is the front of the front wheel (turning and oncoming cyclists and motorcycles) or where a
+    crossing target's front hits the VUT's side (CMCscp), else at the box centre (crossing targets; pedestrians
+    in turns, whose reference is the hip).
     """
     dummy, spec = test.dummy, test.spec
     radius = dummy.width_m / 2
@@ -167,6 +168,8 @@ def _footprint(test: NcapTest) -> tuple[float, float]:
         centre, use = radius, "longitudinal"
     elif spec.layout in ("turning", "oncoming") and "turning" in dummy.ref_from_rear_m:
         centre, use = dummy.length_m - radius, "turning"
+    elif spec.layout == "crossing" and spec.impact_side != "front":
+        centre, use = dummy.length_m - radius, "crossing"
     else:
         centre, use = dummy.length_m / 2, "crossing"
     return radius, centre - dummy.ref_from_rear_m[use]

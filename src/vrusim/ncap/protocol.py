@@ -74,7 +74,8 @@ DUMMIES: dict[str, Dummy] = {
         2.08,
         0.79,
         1.06,
-        {"turning": 2.08, "longitudinal": 0.0},
+        # front of the front wheel for turning and crossing (FC26 §1.4.1.3), rear of the rear wheel ahead
+        {"turning": 2.08, "longitudinal": 0.0, "crossing": 2.08},
         "ISO 19206-5 via V23 catalogs",
         ("height 1.06 m",),
     ),

@@ -20,7 +20,6 @@ CMCSCP_EXTENDED = ((20.0, 70.0), (20.0, 80.0), (30.0, 70.0), (30.0, 80.0),
                    (70.0, 20.0), (70.0, 30.0), (80.0, 20.0), (80.0, 30.0))  # fmt: skip
 """The calculator's CMCscp EXTENDED_RANGE_CELLS as (VUT, EMT) km/h."""
 CMCSCP_START = "EMT moves at its test speed from the start (FC26: accelerates > 1 m/s², 0.5 s stabilisation)"
-EMT_CROSSING_REF = "build: EMT crossing reference point (front wheel, FC26 §1.4.1.3) in build._footprint"
 
 MOTORCYCLIST: tuple[NcapScenario, ...] = (
     NcapScenario(
@@ -95,7 +94,6 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         unverified=(CMCSCP_START, "nearside approach (FC26: nearside or farside, drawn at random)"),
         sources="FC26 §3.1.3.2 (grid, N/A cells, 90 % side impact, obstruction in the standard range)",
         tags=("junction", "flying"),
-        requires=(EMT_CROSSING_REF,),
     ),
     NcapScenario(
         "CMCscp-ext",
@@ -116,7 +114,6 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         unverified=(CMCSCP_START, "nearside approach (FC26: nearside or farside, drawn at random)"),
         sources="FC26 §3.1.3.2 ('without obstruction for Extended Range'); calculator (ranges)",
         tags=("junction", "flying"),
-        requires=(EMT_CROSSING_REF,),
     ),
 )
 """FC26 car-to-motorcyclist scenarios (the car-to-car ones are outside vrusim's scope)."""
