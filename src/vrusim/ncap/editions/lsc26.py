@@ -1,7 +1,8 @@
 """LSC26 §3, the VRU scenarios of *Crash Avoidance – Low Speed Collisions* v1.1 (2026).
 
 Every cell is in the standard range (the calculator has no extended range in LSC). A VUT starting from
-standstill gets `vut_speed_kph` 0 ("SfS"); the scenarios' `requires` names what the builder still lacks.
+standstill gets `vut_speed_kph` 0 ("SfS"). `ncap/build_low_speed.py` builds the layouts standstill_start (not in
+a turn), pedal_misapplication and dooring; the scenarios' `requires` names what is still missing.
 """
 
 from __future__ import annotations
@@ -49,22 +50,25 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         _pairs((1.5, 2.5), (10.0, 15.0, 20.0), "d"),
         function="avoidance",
         official="CBNAO SfS",
-        unverified=("impact location 50 % (LSC26: 50 ± 25 %)",),
         sources="LSC26 §3.2.1.1 (d 1.50 / 2.50 m, EBT 10/15/20 km/h, steady at TTC 4 s)",
-        requires=(SFS_START, "full obstruction beside the VUT (CBNAO_SFS_OBSTRUCTION)"),
+        unverified=(
+            "impact location 50 % (LSC26: 50 ± 25 %)",
+            "CA 102 start-off: 1.5 m/s² to 10 km/h (build_low_speed); cyclist at its test speed from t = 0",
+        ),
     ),
     NcapScenario(
         "CPMRCm",
         "pedestrian",
         "reversing VUT (from standstill) toward a child walking in from the nearside",
-        "reverse",
+        "standstill_start",
         "EPTc",
         5.0,
         _pairs((1.0, 1.5, 2.0), (5.0, 8.0), "gap"),
         function="avoidance",
         official="CPMRCm",
         sources="LSC26 §3.2.2.1 (rear gap 1.00/1.50/2.00 m, EPTc 5/8 km/h, start 10.00 m, 50 ± 25 %)",
-        requires=(SFS_START + ", reversing", "target start from CPMRCM_TARGET_START_M"),
+        tags=("reverse",),
+        unverified=("CA 102 start-off: 1.5 m/s² to 10 km/h; the child walks at its speed from t = 0",),
     ),
     NcapScenario(
         "CPMRCs",
@@ -93,7 +97,7 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         function="ACPE",
         official="CPMFC",
         sources="LSC26 §3.2.2.3 (d1/d2, 25/50/75 %, TACC 1.5 m before the child)",
-        requires=(SFS_START + ", creeping", "accelerator pedal misapplication at TACC (ACPE torque suppression)"),
+        unverified=("creep 1.5 m/s, full accelerator 4 m/s² to 5 m/s; d2 = d1 + 1 s at the creep speed",),
     ),
     NcapScenario(
         "CBDA",
@@ -106,10 +110,8 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         function="dooring",
         official="CBDA",
         sources="LSC26 §3.2.3 (rear gap 0.50-2.00 m, EBT 10/15/20 km/h, door operation distances)",
-        requires=(
-            "parked VUT with a driver door (CBDA_DOOR_OPERATION_M), smaller obstruction car behind",
-            "door information / warning / retention assessment (LSC26 §5.2.3)",
-        ),
+        unverified=("door 1.3 m behind the front, 1.1 m long, 60°/s to 60°; DOW sensor: 360° at the front",),
+        requires=("door information / warning / retention assessment (LSC26 §5.2.3)",),
     ),
     NcapScenario(
         "CMCscp-SfS",
@@ -126,7 +128,7 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         official="CMCscp SfS",
         sources="LSC26 §3.1.2 (EMT 20-80 km/h from the farside, 90 ± 10 % of the VUT length, start 2.9 m)",
         tags=("junction",),
-        requires=(SFS_START, "build: EMT crossing reference point (front wheel) in build._footprint"),
+        unverified=("the VUT's 90 % point travels 2.9 m to the impact; EMT at its test speed from t = 0",),
     ),
     NcapScenario(
         "CMFtap-SfS",
