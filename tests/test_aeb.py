@@ -195,7 +195,7 @@ def test_a_braking_lead_is_seen_before_it_has_slowed(make_scenario):
     from vrusim.ncap.build import build_test
     from vrusim.ncap.grid import select
 
-    test = next(t for t in select(["CMRb"]) if t.cell.vut_speed_kph == 80)
+    test = next(t for t in select(protocol="2023", codes=["CMRb"]) if t.cell.vut_speed_kph == 80)
     base = build_test(test, "aeb").scenario
     runs = []
     for predict in (True, False):

@@ -128,7 +128,7 @@ def test_load_a_yaml_path_as_text_or_path(pedestrian):
 
 
 def test_load_a_catalogue_test_id():
-    (test,) = [t for t in select(["CPNCO-50"], night=False) if t.test_id == "CPNCO-50/30kph/day"]
+    (test,) = [t for t in select(protocol="2023", codes=["CPNCO-50"], night=False) if t.test_id == "CPNCO-50/30kph/day"]
     loaded = vrusim.load("CPNCO-50/30kph/day")
     assert loaded == build_test(test).scenario
     assert loaded.planner.name == "fsm"
@@ -334,8 +334,8 @@ def test_results_show_briefly(pedestrian):
 
 
 def test_euro_ncap_subset_equals_the_command_line():
-    ncap = vrusim.euro_ncap(["CPNA-25"], planner="aeb", v2x="on")
-    result = invoke("ncap", "--scenario", "CPNA-25", "--planner", "aeb", "--v2x", "on", "--json")
+    ncap = vrusim.euro_ncap(["CPNA-25"], planner="aeb", v2x="on", protocol="2023")
+    result = invoke("ncap", "--protocol", "2023", "--scenario", "CPNA-25", "--planner", "aeb", "--v2x", "on", "--json")
     assert result.exit_code == 0, result.output
     cli = json.loads(result.stdout)
     assert json.loads(json.dumps(ncap.to_dict(), allow_nan=False)) == cli
@@ -353,7 +353,8 @@ def test_euro_ncap_subset_equals_the_command_line():
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [
-        ({"scenarios": "XYZ"}, "scenarios: unknown 2023 catalogue entry 'XYZ'"),
+        ({"scenarios": "XYZ"}, "scenarios: unknown 2026 catalogue entry 'XYZ'"),
+        ({"protocol": "1999"}, "protocol: unknown edition '1999'"),
         ({"planner": "warp-drive"}, "planner: "),
         ({"v2x": "typical"}, "v2x: expected on or off"),
         ({"night": "yes"}, "night: expected True or False"),

@@ -77,7 +77,7 @@ def test_run_takes_one_catalogue_test_id():
         assert result.exit_code == 0, result.output
         row = json.loads(result.stdout)
         assert (row["scenario"], row["v2x"], row["planner"]) == (test_id, v2x, "fsm")
-        test = next(t for t in select(["CPNA-25"], night=False) if t.test_id == test_id)
+        test = next(t for t in select(protocol="2023", codes=["CPNA-25"], night=False) if t.test_id == test_id)
         expected = summary_rows(run_tests([test], v2x=v2x).run)[0]
         assert (row["outcome"], row["min_clearance_m"]) == (expected["outcome"], expected["min_clearance_m"])
 

@@ -18,7 +18,19 @@ from vrusim.ncap.grid import select
 def ncap_out(tmp_path_factory):
     """`vrusim ncap --scenario CPNA-75 --scenario CPTA --night --out DIR --json`: the JSON and the folder."""
     folder = tmp_path_factory.mktemp("ncap") / "out"
-    result = invoke("ncap", "--scenario", "CPNA-75", "--scenario", "CPTA", "--night", "--out", folder, "--json")
+    result = invoke(
+        "ncap",
+        "--protocol",
+        "2023",
+        "--scenario",
+        "CPNA-75",
+        "--scenario",
+        "CPTA",
+        "--night",
+        "--out",
+        folder,
+        "--json",
+    )
     assert result.exit_code == 0, result.output
     return json.loads(result.stdout), folder
 
@@ -26,7 +38,7 @@ def ncap_out(tmp_path_factory):
 def test_ncap_writes_rows_that_match_the_assessment(ncap_out):
     document, folder = ncap_out
     assert sorted(p.name for p in folder.iterdir()) == ["results.csv", "results.parquet", "scorecard.png"]
-    expected = {t.test_id for t in select(["CPNA-75", "CPTA"], night=True)}
+    expected = {t.test_id for t in select(protocol="2023", codes=["CPNA-75", "CPTA"], night=True)}
     tests = {t["test_id"]: t for t in document["assessment"]["tests"]}
     assert set(tests) == expected
     csv_rows = pa_csv.read_csv(folder / "results.csv").to_pylist()
@@ -45,7 +57,7 @@ def test_ncap_writes_rows_that_match_the_assessment(ncap_out):
 
 
 def test_ncap_terminal_grid_lists_every_selected_scenario():
-    result = invoke("ncap", "--scenario", "CPRA")
+    result = invoke("ncap", "--protocol", "2023", "--scenario", "CPRA")
     assert result.exit_code == 0, result.output
     for code in ("CPRA-Cm", "CPRA-Cs"):
         assert code in result.stdout
@@ -69,25 +81,27 @@ def test_ncap_bad_options_are_user_errors(args, names):
 def test_ncap_out_that_is_a_file_is_a_user_error(tmp_path):
     target = tmp_path / "taken"
     target.write_text("keep me")
-    assert_user_error(invoke("ncap", "--scenario", "CPTAns", "--out", target), "--out", "taken")
+    assert_user_error(invoke("ncap", "--protocol", "2023", "--scenario", "CPTAns", "--out", target), "--out", "taken")
     assert target.read_text() == "keep me"
 
 
 def test_out_targets_are_checked_before_the_run_and_written_all_or_none(tmp_path):
     (tmp_path / "scorecard.png").mkdir()
-    result = invoke("ncap", "--scenario", "CPTAns", "--out", tmp_path, "--force")  # not empty: --force
+    result = invoke(
+        "ncap", "--protocol", "2023", "--scenario", "CPTAns", "--out", tmp_path, "--force"
+    )  # not empty: --force
     assert_user_error(result, "--out", "scorecard.png")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scorecard.png"]  # nothing else written
 
 
 def test_scenario_selection_is_a_case_insensitive_prefix():
-    assert {t.spec.code for t in select(["cmrs"])} == {"CMRs", "CMRs-FCW"}
-    assert {t.spec.code for t in select(["CPTA"])} == {"CPTAfs", "CPTAfo", "CPTAns", "CPTAno"}
-    assert {t.spec.code for t in select(["CPNA-25"])} == {"CPNA-25"}
+    assert {t.spec.code for t in select(protocol="2023", codes=["cmrs"])} == {"CMRs", "CMRs-FCW"}
+    assert {t.spec.code for t in select(protocol="2023", codes=["CPTA"])} == {"CPTAfs", "CPTAfo", "CPTAns", "CPTAno"}
+    assert {t.spec.code for t in select(protocol="2023", codes=["CPNA-25"])} == {"CPNA-25"}
 
 
 def test_list_shows_every_entry_and_its_flags():
-    result = invoke("list", "--json")
+    result = invoke("list", "--protocol", "2023", "--json")
     assert result.exit_code == 0, result.output
     rows = json.loads(result.stdout)
     assert [r["code"] for r in rows] == [s.code for s in SCENARIOS]
@@ -103,7 +117,7 @@ def test_list_shows_every_entry_and_its_flags():
     assert by_code["CPNA-25"]["geometry"]["lateral_offset_m"] == 4.0
     assert by_code["CMRb"]["target_speeds_kph"] == "vut"
     assert any(flag.startswith("EBTa: ") for flag in by_code["CBLA-50"]["unverified"])  # dummy flags too
-    text = invoke("list")
+    text = invoke("list", "--protocol", "2023")
     assert text.exit_code == 0
     assert "CPNCO-50" in text.stdout
     assert "side impact at 50 % of the VUT length" in " ".join(text.stdout.split())

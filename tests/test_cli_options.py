@@ -96,7 +96,7 @@ def test_planner_is_repeatable_and_a_comma_list():
     "args",
     [
         ["run", PEDESTRIAN],
-        ["ncap", "--scenario", "CPTAns"],
+        ["ncap", "--protocol", "2023", "--scenario", "CPTAns"],
         ["report", PEDESTRIAN, "--out", "unused.html"],
         ["compare", PEDESTRIAN],
     ],
@@ -109,7 +109,11 @@ def test_an_unknown_planner_is_named_the_same_way_everywhere(args):
 
 @pytest.mark.parametrize(
     "args",
-    [["run", PEDESTRIAN], ["ncap", "--scenario", "CPTAns"], ["report", PEDESTRIAN, "--out", "unused.html"]],
+    [
+        ["run", PEDESTRIAN],
+        ["ncap", "--protocol", "2023", "--scenario", "CPTAns"],
+        ["report", PEDESTRIAN, "--out", "unused.html"],
+    ],
     ids=["run", "ncap", "report"],
 )
 def test_commands_that_run_one_planner_refuse_several(args):
@@ -173,7 +177,11 @@ def test_a_bad_seed_is_named(args):
 
 @pytest.mark.parametrize(
     "args",
-    [["run", PEDESTRIAN], ["ncap", "--scenario", "CPTAns"], ["report", PEDESTRIAN, "--out", "unused.html"]],
+    [
+        ["run", PEDESTRIAN],
+        ["ncap", "--protocol", "2023", "--scenario", "CPTAns"],
+        ["report", PEDESTRIAN, "--out", "unused.html"],
+    ],
     ids=["run", "ncap", "report"],
 )
 def test_a_bad_v2x_switch_is_named(args):
@@ -209,7 +217,7 @@ def _sweep_spec(folder: Path) -> Path:
 def _writers(tmp_path: Path) -> dict[str, list]:
     """Per command that writes a folder: its arguments before --out."""
     return {
-        "ncap": ["ncap", "--scenario", "CPTAns"],
+        "ncap": ["ncap", "--protocol", "2023", "--scenario", "CPTAns"],
         "export": ["export", "paper:pedestrian", "--format", "openscenario"],
         "sweep": ["sweep", _sweep_spec(tmp_path), "--quiet", "--workers", "1"],
     }
@@ -322,7 +330,7 @@ def test_bundled_files_resolve_inside_an_installed_wheel(tmp_path, monkeypatch):
 def test_dry_run_counts_catalogue_tests_once(tmp_path):
     spec = {
         "name": "catalogue",
-        "catalogue": {"scenarios": ["CPNA-25"]},
+        "catalogue": {"scenarios": ["CPNA-25"], "protocol": "2023"},
         "parameters": {"ego.cruise_speed_mps": [5.0, 6.0]},
         "samples": 3,
     }
@@ -349,7 +357,7 @@ def _assert_fits(text: str, headers: list[str], columns: int = 80) -> None:
 def test_list_at_80_columns_shows_every_header_and_code():
     from vrusim.ncap.editions.v2023 import SCENARIOS
 
-    result = _invoke_at(80, "list")
+    result = _invoke_at(80, "list", "--protocol", "2023")
     assert result.exit_code == 0, result.output
     headers = ["Code", "Function", "Target km/h", "VUT km/h", "Impact at %", "Light", "Tests", "Geometry"]
     _assert_fits(result.stdout, [*headers, "Obstruction", "Flags / unverified"])

@@ -61,7 +61,7 @@ def _polyline_vru_scenario(make_scenario) -> Scenario:
 @pytest.fixture(scope="module")
 def scenarios(make_scenario) -> list[Scenario]:
     paper = [load_scenario(path) for path in PAPER_FILES]
-    catalogue = [build_test(select([code])[index]).scenario for code, index in CATALOGUE.items()]
+    catalogue = [build_test(select(protocol="2023", codes=[code])[index]).scenario for code, index in CATALOGUE.items()]
     return [*paper, *(s.with_v2x(True) for s in paper), *catalogue, _polyline_vru_scenario(make_scenario)]
 
 

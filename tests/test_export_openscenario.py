@@ -25,9 +25,9 @@ from vrusim.scenario.schema import Scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 YAML_FILES = [*sorted(ROOT.glob("scenarios/paper/*.yaml")), *sorted(ROOT.glob("scenarios/examples/*.yaml"))]
-DAY_TESTS = select()
+DAY_TESTS = select(protocol="2023")
 TEST_IDS = [test.test_id for test in DAY_TESTS]
-NIGHT_SAMPLE = next(t for t in select(night=True) if t.lighting == "night")
+NIGHT_SAMPLE = next(t for t in select(night=True, protocol="2023") if t.lighting == "night")
 TOL = 1e-6
 
 
@@ -304,7 +304,7 @@ def test_cli_exports_a_catalogue_id_and_a_prefix(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["CPNA-25_20kph_day.xodr", "CPNA-25_20kph_day.xosc"]
     result = invoke("export", "cpna-75", "--format", "openscenario", "--out", tmp_path / "prefix", "--night")
     assert result.exit_code == 0, result.output
-    expected = select(["CPNA-75"], night=True)
+    expected = select(protocol="2023", codes=["CPNA-75"], night=True)
     assert len(list((tmp_path / "prefix").glob("*.xosc"))) == len(expected)
 
 
@@ -313,7 +313,7 @@ def test_cli_commonroad_exports_simulated_runs_that_load(tmp_path):
 
     result = invoke("export", "CPNA-25", "--format", "commonroad", "--out", tmp_path)
     assert result.exit_code == 0, result.output
-    expected = select(["CPNA-25"])
+    expected = select(protocol="2023", codes=["CPNA-25"])
     files = sorted(tmp_path.glob("*.xml"))
     assert len(files) == len(expected) > 1
     scenario, _ = CommonRoadFileReader(str(files[0])).open()
@@ -325,7 +325,7 @@ def test_cli_commonroad_exports_simulated_runs_that_load(tmp_path):
     [
         (["CPNA-25/20kph/day", "--format", "xml"], ["--format", "xml"]),
         (["CPNA-25/20kph/dai"], ["SOURCE", "CPNA-25/20kph/day"]),
-        (["CPXX"], ["SOURCE", "CPNA-25"]),
+        (["CPXX"], ["SOURCE", "did you mean CPNA"]),
         (["missing.yaml"], ["missing.yaml"]),
     ],
     ids=["format", "unknown-id", "unknown-code", "missing-file"],

@@ -14,6 +14,7 @@ from collections import Counter
 import pytest
 
 from vrusim.ncap.build import NcapTest, build_test
+from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS
 from vrusim.ncap.editions import edition
 from vrusim.ncap.editions.lsc26 import CBDA_DOOR_OPERATION_M, CMCSCP_SFS_START_M, CPMRCM_TARGET_START_M
 from vrusim.ncap.editions.robustness26 import FAMILIES, VERIFICATION_CONDITIONS, applicable_layers
@@ -21,7 +22,7 @@ from vrusim.ncap.editions.v2026 import SCENARIOS
 from vrusim.ncap.grid import run_tests, select
 from vrusim.ncap.protocol import DUMMIES, OBSTRUCTION_CARS, OBSTRUCTIONS, TURN_PATHS
 
-BUILDER_LAYOUTS = {"crossing", "longitudinal", "turning", "reverse", "rear", "oncoming"}
+BUILDER_LAYOUTS = {"crossing", "longitudinal", "turning", "reverse", "rear", "oncoming"} | set(LOW_SPEED_LAYOUTS)
 """Layouts `ncap/build.py` supports today."""
 
 # ------------------------------------------------------------------------------------ the calculator's grids

@@ -42,7 +42,7 @@ def _interp(t, series, at):
 
 @pytest.mark.parametrize("code", _families())
 def test_every_test_meets_its_nominal_impact_location(code):
-    built = [build_test(test, planner="none") for test in select([code])]
+    built = [build_test(test, planner="none") for test in select(protocol="2023", codes=[code])]
     run = simulate([_no_stop(b.scenario) for b in built], trace=True)
     trace = run.trace
     t = trace["t_s"]
@@ -85,15 +85,15 @@ def test_catalogue_lists_every_family_of_the_issue():
 
 
 def test_grid_sizes_follow_the_protocol():
-    assert len(select(["CPNA-25"])) == 11  # 10..60 km/h in 5 km/h steps, day
-    assert len(select(["CPNA-25"], night=True)) == 22
-    assert len(select(["CPLA-50"])) == 9  # 20..60
-    assert len(select(["CMFtap"])) == 9  # 3 VUT x 3 EMT speeds
-    assert len(select(["CPRA-Cs"])) == 6
+    assert len(select(protocol="2023", codes=["CPNA-25"])) == 11  # 10..60 km/h in 5 km/h steps, day
+    assert len(select(protocol="2023", codes=["CPNA-25"], night=True)) == 22
+    assert len(select(protocol="2023", codes=["CPLA-50"])) == 9  # 20..60
+    assert len(select(protocol="2023", codes=["CMFtap"])) == 9  # 3 VUT x 3 EMT speeds
+    assert len(select(protocol="2023", codes=["CPRA-Cs"])) == 6
 
 
 def test_fsm_runs_the_whole_grid_into_a_complete_scorecard():
-    tests = select(night=True)
+    tests = select(night=True, protocol="2023")
     result = run_tests(tests, planner="fsm", v2x=False)
     assert len(result.rows) == len(tests) > 240
     for row in result.rows:
@@ -112,7 +112,7 @@ def test_cpnco_child_hidden_by_the_parked_cars_until_it_steps_into_view(speed_kp
     step at which an independent 601-ray line-of-sight check sees part of its footprint inside the sector."""
     from test_occlusion import brute_force_clear, in_sector, states
 
-    test = next(t for t in select(["CPNCO-50"]) if t.cell.vut_speed_kph == speed_kph)
+    test = next(t for t in select(protocol="2023", codes=["CPNCO-50"]) if t.cell.vut_speed_kph == speed_kph)
     scenario = build_test(test, planner="none").scenario
     trace = simulate([scenario], trace=True).trace
     apex_x, apex_y, heading, vx, vy = states(scenario, trace)
@@ -138,7 +138,7 @@ def test_cpnco_child_hidden_by_the_parked_cars_until_it_steps_into_view(speed_kp
 def test_fcw_rows_are_judged_by_the_warning_of_a_planner_that_warns():
     """A plug-in planner that warns on first detection and never brakes: FCW rows get green or red by the
     TTC of that warning (>= 1.7 s), AEB rows collide and are judged by impact speed."""
-    tests = select(["CPLA-25", "CBLA-25"])
+    tests = select(protocol="2023", codes=["CPLA-25", "CBLA-25"])
     result = run_tests(tests, planner="warning_planner:WarnOnDetection")
     assessment = assess(result.rows)
     for row, assessed in zip(result.rows, assessment.tests, strict=True):
@@ -151,7 +151,7 @@ def test_fcw_rows_are_judged_by_the_warning_of_a_planner_that_warns():
 
 
 def test_turns_end_on_the_centre_line_of_the_right_lane_of_the_road_turned_into():
-    for test in select(["CPTA", "CBTA", "CMFtap", "CETAfs"]):
+    for test in select(protocol="2023", codes=["CPTA", "CBTA", "CMFtap", "CETAfs"]):
         ego = build_test(test, planner="none").scenario.ego
         samples = sample_path(ego_route_spec(ego))
         route = ego.route
@@ -165,7 +165,7 @@ def test_obstruction_placement_matches_the_protocol_figures():
     """Hand-computed from V23/FC26: CPNCO cars 1.0 m clear of the VUT side, small car's front 1.0 m before
     the child's path edge, SUV 1.0 m behind; CBNA row ends 17 m from the VUT lane centre line, 1.0 m clear
     of the cyclist, SUV first, 0.2 m gap."""
-    cpnco = build_test(select(["CPNCO-50"])[0], planner="none").scenario.obstacles
+    cpnco = build_test(select(protocol="2023", codes=["CPNCO-50"])[0], planner="none").scenario.obstacles
     small, suv = cpnco
     assert (small.kind, suv.kind) == ("small car", "SUV")
     child_half_width = 0.298 / 2
@@ -173,7 +173,7 @@ def test_obstruction_placement_matches_the_protocol_figures():
     assert suv.centre.x_m + suv.length_m / 2 == pytest.approx(small.centre.x_m - small.length_m / 2 - 1.0)
     for car in cpnco:
         assert car.centre.y_m + car.width_m / 2 == pytest.approx(-1.75 - 0.9 - 1.0)  # 1.0 m clear of the VUT
-    cbna = build_test(select(["CBNA-50"])[0], planner="none").scenario
+    cbna = build_test(select(protocol="2023", codes=["CBNA-50"])[0], planner="none").scenario
     suv, small = cbna.obstacles
     path_x = 1.75  # the cyclist rides in the right lane of the nearside arm
     assert (suv.kind, small.kind) == ("SUV", "small car")
@@ -185,7 +185,7 @@ def test_obstruction_placement_matches_the_protocol_figures():
 
 
 def test_a_test_gives_the_same_row_alone_and_inside_the_whole_grid():
-    tests = select(night=True)
+    tests = select(night=True, protocol="2023")
     grid = {row["test_id"]: row for row in run_tests(tests, planner="fsm", v2x=True).rows}
     for test_id in ("CPNCO-50/30kph/night", "CMFtap/15kph/EMT45/day", "CPRA-Cs/8kph/IL75-adult/day"):
         test = next(t for t in tests if t.test_id == test_id)

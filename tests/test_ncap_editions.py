@@ -61,3 +61,14 @@ def test_list_json_names_the_edition_rows():
     result = invoke("list", "--protocol", "2023", "--json")
     assert result.exit_code == 0
     assert "CPRA-Cs" in result.stdout
+
+
+def test_scenarios_that_cannot_be_built_yet_are_left_out_and_refused_by_name():
+    from vrusim.ncap.grid import unbuilt
+
+    missing = unbuilt("2026")
+    assert [s.code for s in missing] == ["CMFtap-SfS"]
+    assert not {t.spec.code for t in select(protocol="2026", night=True)} & {s.code for s in missing}
+    with pytest.raises(UserInputError, match="'CMFtap-SfS' cannot be simulated yet"):
+        select(["CMFtap-SfS"], protocol="2026")
+    assert {t.spec.code for t in select(["CMFtap"], protocol="2026")} == {"CMFtap"}

@@ -23,16 +23,11 @@ TOLERANCE_M = 0.05
 """Synchronisation: the target's reference point within 5 cm of the nominal impact location at first contact."""
 
 
-def _dispatch(test, planner="fsm", v2x=False):
-    """What `build_test` will do once the dispatch is merged."""
-    if test.spec.layout in LOW_SPEED_LAYOUTS:
-        return build_low_speed(test, planner, v2x)
-    return build_test(test, planner, v2x)
-
-
-@pytest.fixture(autouse=True)
-def _low_speed_dispatch(monkeypatch):
-    monkeypatch.setattr(grid, "build_test", _dispatch)
+def test_build_test_hands_low_speed_layouts_to_the_low_speed_builder():
+    for code in CODES:
+        test = next(t for t in grid.select([code], protocol="2026") if t.spec.code == code)
+        assert test.spec.layout in LOW_SPEED_LAYOUTS
+        assert build_test(test, "none").scenario == build_low_speed(test, "none", False).scenario
 
 
 def _run(code: str, planner: str) -> list[tuple]:

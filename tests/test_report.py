@@ -163,11 +163,14 @@ def _leftovers(folder: Path) -> list[str]:
         (["report", "paper", "--out", "{tmp}/notes.txt/r.html"], ["--out", "does not exist"]),
         (["report", "paper", "--out", "{tmp}/folder.html"], ["--out", "is a folder"]),
         (["report", "paper", "--out", "{tmp}/r.html", "--v2x", "on"], ["--v2x", "scenario file"]),
-        (["report", "CPNCO", "--out", "{tmp}/r.html"], ["SOURCE", "selects 22 catalogue tests"]),
+        (["report", "CPNCO", "--out", "{tmp}/r.html"], ["SOURCE", "selects 36 catalogue tests"]),
         (["report", "CPNX-50/10kph/day", "--out", "{tmp}/r.html"], ["SOURCE", "did you mean CPNCO-50/10kph/day"]),
         (["report", "{tmp}/bad.yaml", "--out", "{tmp}/r.html"], ["bad.yaml", "ego"]),
         (["paper", "--report", "{tmp}/r.txt"], ["--report", ".html"]),
-        (["ncap", "--scenario", "CPNA-25", "--report", "{tmp}/no/r.html"], ["--report", "does not exist"]),
+        (
+            ["ncap", "--protocol", "2023", "--scenario", "CPNA-25", "--report", "{tmp}/no/r.html"],
+            ["--report", "does not exist"],
+        ),
         (["ncap", "--scenario", "NOPE", "--report", "{tmp}/r.html"], ["--scenario"]),
     ],
 )

@@ -262,11 +262,16 @@ def test_plugin_planner_code_is_recorded_and_a_change_warns_on_resume(tmp_path, 
 def test_catalogue_sweep_matches_the_catalogue_run(tmp_path):
     path = tmp_path / "spec.yaml"
     path.write_text(
-        yaml.safe_dump({"catalogue": {"scenarios": ["CPNA-25", "CBLA-50"], "planner": "none"}, "batch_size": 8})
+        yaml.safe_dump(
+            {"catalogue": {"scenarios": ["CPNA-25", "CBLA-50"], "planner": "none", "protocol": "2023"}, "batch_size": 8}
+        )
     )
     run_sweep(load_spec(path), tmp_path / "out")
     table = results(tmp_path / "out")
-    catalogue = {row["test_id"]: row for row in run_tests(select(["CPNA-25", "CBLA-50"]), planner="none").rows}
+    catalogue = {
+        row["test_id"]: row
+        for row in run_tests(select(protocol="2023", codes=["CPNA-25", "CBLA-50"]), planner="none").rows
+    }
     assert table.column("test").to_pylist() == list(catalogue)
     assert table.column("collided").to_pylist() == [row["collided"] for row in catalogue.values()]
     speeds = [row["impact_speed_mps"] for row in catalogue.values()]

@@ -265,7 +265,7 @@ def _write_outputs(folder: Path, rows: list[dict], assessment: Assessment) -> li
 
     table = pa.Table.from_pylist(rows)
     figure = scorecard_figure(assessment)
-    csv_name, parquet_name, png_name = OUTPUT_FILES
+    csv_name, parquet_name, png_name = OUTPUT_FILES[:3]
     return write_together(
         [
             (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),

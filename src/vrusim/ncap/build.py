@@ -269,7 +269,12 @@ class _Contact:
 
 
 def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> BuiltTest:
-    """The executable Scenario of one catalogue test, and its nominal impact (at first contact)."""
+    """The executable Scenario of one catalogue test, and its nominal impact (at first contact). LSC26 tests whose
+    VUT starts from rest, creeps or stands parked are built by `ncap/build_low_speed.py`."""
+    from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS, build_low_speed
+
+    if test.spec.layout in LOW_SPEED_LAYOUTS:
+        return build_low_speed(test, planner, v2x)
     spec = test.spec
     v = test.cell.vut_speed_kph * KPH
     along, left = _vut_point(test)

@@ -39,7 +39,7 @@ _MODULES = {"2023": "vrusim.ncap.editions.v2023", "2026": "vrusim.ncap.editions.
 """Edition name -> the module whose EDITION it is (imported on first use)."""
 
 EDITION_NAMES: tuple[str, ...] = tuple(_MODULES)
-DEFAULT_EDITION = "2023"
+DEFAULT_EDITION = "2026"
 """The edition used when none is named."""
 
 

@@ -110,8 +110,10 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         function="dooring",
         official="CBDA",
         sources="LSC26 §3.2.3 (rear gap 0.50-2.00 m, EBT 10/15/20 km/h, door operation distances)",
-        unverified=("door 1.3 m behind the front, 1.1 m long, 60°/s to 60°; DOW sensor: 360° at the front",),
-        requires=("door information / warning / retention assessment (LSC26 §5.2.3)",),
+        unverified=(
+            "door 1.3 m behind the front, 1.1 m long, 60°/s to 60°; DOW sensor: 360° at the front",
+            "assessed as door retention of the driver's door (R26 ceiling yellow); warning-only systems not modelled",
+        ),
     ),
     NcapScenario(
         "CMCscp-SfS",
