@@ -42,16 +42,22 @@ TEST_COLUMNS = (
 """Columns of the per-test table (keys of the results.parquet rows)."""
 
 
-def read_results(folder: Path) -> list[dict[str, Any]]:
-    """The rows of FOLDER/results.parquet; an unreadable file is a user error naming it."""
+def read_rows(folder: Path) -> list[dict[str, Any]]:
+    """The rows of FOLDER/results.parquet as written; an unreadable file is a user error naming it."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
     path = folder / "results.parquet"
     try:
-        rows = pq.read_table(path).to_pylist()
+        return pq.read_table(path).to_pylist()
     except (OSError, pa.ArrowException) as error:
         raise UserInputError(f"SOURCE: cannot read {path} ({error})") from None
+
+
+def read_results(folder: Path) -> list[dict[str, Any]]:
+    """The rows of FOLDER/results.parquet of a 2023-protocol run; an unreadable file is a user error naming it."""
+    path = folder / "results.parquet"
+    rows = read_rows(folder)
     missing = {"test_id", "scenario", "colour", "sub_score"} - set(rows[0] if rows else {})
     if not rows or missing:
         raise UserInputError(f"SOURCE: {path} is not a `vrusim ncap` results file (no tests or missing columns)")
@@ -215,7 +221,13 @@ def ncap_report(rows: list[dict[str, Any]], assessment: Assessment, source: str 
 
 
 def ncap_report_from_folder(folder: Path) -> Report:
-    """The report of a `vrusim ncap --out` folder: its results.parquet, assessed again for group points."""
+    """The report of a `vrusim ncap --out` folder: its results.parquet, assessed again for group points; rows of
+    protocol "2026" make the 2026 report (`report.ncap2026`)."""
+    rows = read_rows(folder)
+    if rows and rows[0].get("protocol") == "2026":
+        from vrusim.report.ncap2026 import ncap_2026_report_from_rows
+
+        return ncap_2026_report_from_rows(rows, folder)
     rows = read_results(folder)
     try:
         assessment = assess(rows)
