@@ -7,7 +7,7 @@ import pytest
 
 import vrusim.ncap.grid as grid
 from vrusim.metrics.summary import summary_rows
-from vrusim.ncap.build import VUT, build_test
+from vrusim.ncap.build import VUT, NcapTest, build_test
 from vrusim.ncap.build_low_speed import (
     GO_ACCEL_MPS2,
     GO_SPEED_MPS,
@@ -17,6 +17,7 @@ from vrusim.ncap.build_low_speed import (
     start_off_probe_s,
     start_off_time_s,
 )
+from vrusim.ncap.editions import edition
 
 CODES = ("CBNAO-SfS", "CMCscp-SfS", "CPMRCm", "CPMFC", "CBDA")
 TOLERANCE_M = 0.05
@@ -100,6 +101,7 @@ def test_cpmfc_distances_by_hand():
 
 
 def test_turning_standstill_start_is_refused_with_a_reason():
-    test = grid.select(["CMFtap-SfS"], protocol="2026")[0]
+    spec = edition("2026").scenario("CMFtap-SfS")
+    test = NcapTest(spec, spec.cells[0], "day", "2026")
     with pytest.raises(ValueError, match="CMFtap SfS"):
         build_low_speed(test, "none", False)

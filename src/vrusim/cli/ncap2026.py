@@ -69,10 +69,10 @@ def write_2026_outputs(
     """results.csv / .parquet, scorecard.png (and verification.json) in `folder`, all or none; the predictions
     file. Returns what was written."""
     written: list[Path] = []
+    if predictions is not None:  # first: it can refuse an assessment, the folder's files cannot
+        written.append(rated.write_predictions(predictions))
     if folder is not None:
         written += _write_folder(rated, verification, folder)
-    if predictions is not None:
-        written.append(rated.write_predictions(predictions))
     return written
 
 
@@ -88,7 +88,7 @@ def _write_folder(rated: Rated2026, verification: VerificationReport | None, fol
     from vrusim.viz.scorecard2026 import scorecard_2026_figure
 
     table = pa.Table.from_pylist(result_rows_2026(rated.catalogue_run.rows, rated.assessment, verification))
-    figure = scorecard_2026_figure(rated.assessment)
+    figure = scorecard_2026_figure(rated.assessment, verification=verification)
     csv_name, parquet_name, png_name, json_name = OUTPUT_FILES
     targets = [
         (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),
@@ -96,9 +96,12 @@ def _write_folder(rated: Rated2026, verification: VerificationReport | None, fol
         (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
     ]
     if verification is not None:
-        text = json.dumps(verification.to_dict(), indent=2)
-        targets.append((folder / json_name, lambda temp: temp.write_text(text), "verification"))
-    return write_together(targets)
+        text = json.dumps(verification.to_dict(), indent=1, allow_nan=False)
+        targets.append((folder / json_name, lambda temp: temp.write_text(text, encoding="utf-8"), "verification"))
+    written = write_together(targets)
+    if verification is None:  # a verification of an earlier run (--force) would not describe these results
+        (folder / json_name).unlink(missing_ok=True)
+    return written
 
 
 def print_2026(

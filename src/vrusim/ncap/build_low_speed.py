@@ -11,6 +11,8 @@ from a probe run of the VUT alone (`start_off_probe_s`): it includes the actuato
 
 from __future__ import annotations
 
+import functools
+import json
 import math
 from typing import Any
 
@@ -72,21 +74,37 @@ def start_off_probe_s(ego: dict, travel_m: float) -> float:
     """Time from the start-off (phase at t = 0) until the ego has travelled `travel_m`, s: the engine's own
     longitudinal dynamics (driver request, actuator lag, jerk limit); the closed form `start_off_time_s`
     ignores the lag (about 0.09 s late)."""
-    return travel_probe_s({**ego, "driver": _start_off(0.0)}, travel_m, start_off_time_s(travel_m) + 2.0)
+    duration_s = math.ceil(start_off_time_s(travel_m) + 2.0)  # whole seconds: probes of similar tests are shared
+    return travel_probe_s({**ego, "driver": _start_off(0.0)}, travel_m, duration_s)
+
+
+PROBE_ROUTE_M = 500.0
+"""Route of a probe run, m: far more than a low-speed VUT covers in the probe's seconds."""
 
 
 def travel_probe_s(ego: dict, travel_m: float, duration_s: float) -> float:
     """Time until the ego (its driver, planner `none`) has travelled `travel_m`, s, from a probe run of the ego
-    alone, interpolated between steps."""
-    far = {"type": "pedestrian", "start": {"x_m": 1e4, "y_m": 1e4}, "heading_deg": 0.0, "top_speed_mps": 0.0}
-    mapping = {"name": "probe", "ego": ego, "planner": {"name": "none"}, "vrus": [far],
-               "sim": {"dt_s": DT_S, "duration_s": round(duration_s, 2)}}  # fmt: skip
-    trace = simulate([Scenario.model_validate(mapping)], trace=True).trace
-    t, station = trace["t_s"], trace["ego_station_m"][:, 0]
+    alone, interpolated between steps. Probes of the same dynamics share one run (the start pose and route
+    do not change the travel along the route)."""
+    dynamics = {key: value for key, value in ego.items() if key not in ("start", "route")}
+    t, station = _probe(json.dumps(dynamics, sort_keys=True), round(duration_s, 2))
     k = int(np.argmax(station >= travel_m))
     if station[k] < travel_m or k == 0:
         raise ValueError(f"the probe does not travel {travel_m:g} m in {duration_s:g} s")
     return float(t[k - 1] + (travel_m - station[k - 1]) / (station[k] - station[k - 1]) * (t[k] - t[k - 1]))
+
+
+@functools.lru_cache(maxsize=64)
+def _probe(dynamics_json: str, duration_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """(time s, route station m) of the ego with these dynamics driving alone from rest on a straight route
+    long enough never to end within `duration_s`."""
+    ego = {**json.loads(dynamics_json), "start": {"x_m": 0.0, "y_m": 0.0, "heading_deg": 0.0}}
+    ego["route"] = {"kind": "straight", "length_m": PROBE_ROUTE_M}
+    far = {"type": "pedestrian", "start": {"x_m": 1e4, "y_m": 1e4}, "heading_deg": 0.0, "top_speed_mps": 0.0}
+    mapping = {"name": "probe", "ego": ego, "planner": {"name": "none"}, "vrus": [far],
+               "sim": {"dt_s": DT_S, "duration_s": duration_s}}  # fmt: skip
+    trace = simulate([Scenario.model_validate(mapping)], trace=True).trace
+    return trace["t_s"], trace["ego_station_m"][:, 0].copy()
 
 
 def _grid(t_s: float) -> float:

@@ -40,6 +40,9 @@ SHEETS: dict[str, str] = {
 """Prediction sheet of each VRU scenario in the calculator's template."""
 ROBUSTNESS_SHEETS = ("FC - Ped & Cyc robust. pred.", "FC - Car & PTW robust. pred.")
 INPUT_SHEET = "Input parameters"
+NOT_PREDICTED = frozenset({"CBDA"})
+"""Scenarios whose template cells vrusim leaves as they are: R26 scores CBDA from the declared vehicle response
+(information / warning / retention) and door, inputs a simulation does not decide."""
 PREDICTION_INPUTS = ("Prediction - Standard", "Prediction - Extended")
 VRU_INPUT_SCENARIOS = frozenset(t.APPLICABLE_LAYERS)
 """The "Scenario" names of the Input parameters sheet whose prediction method vrusim sets."""
@@ -114,8 +117,8 @@ def template_cells(template: Path | None = None) -> list[TemplateCell]:
         dfs = common.read_excel_file_to_dfs(str(path))
     cells = []
     for scenario, sheet in SHEETS.items():
-        if scenario == "CBDA":
-            continue  # dooring: not assessed by vrusim (rating2026.colours)
+        if scenario in NOT_PREDICTED:
+            continue
         key = data_model.StageSubelementKey.LSC if sheet.startswith("LSC") else data_model.StageSubelementKey.FC
         frame = dfs[sheet]
         where = matrix_processing.get_matrix_indices(frame, scenario, data_model.MATRIX_INDICES)
@@ -142,7 +145,11 @@ def template_cells(template: Path | None = None) -> list[TemplateCell]:
 def _fill(book: Any, assessment: Assessment2026, method: str, cells: list[TemplateCell]) -> list[str]:
     """Write colours, FCW/AEB choices, prediction methods and robustness cells into an openpyxl workbook;
     return the assessed cells that have no place in the template."""
-    colours = {(c.scenario, c.row_label, c.column_label): c for c in assessment.cells if c.range != "robustness"}
+    colours = {
+        (c.scenario, c.row_label, c.column_label): c
+        for c in assessment.cells
+        if c.range != "robustness" and c.scenario not in NOT_PREDICTED
+    }
     placed = set()
     for cell in cells:
         key = (cell.scenario, cell.row_label, cell.column_label)

@@ -133,7 +133,7 @@ planner is judged by its warning TTC, another by the Vrel_impact bands (UNVERIFI
 LSC_MITIGATION_SCENARIOS = frozenset({"CPMFC"})
 
 COLUMN_AXIS: dict[str, str] = {
-    name: "target_speed" for name in ("CMFtap", "CMCscp", "CMCscp SfS", "CMFtap SfS", "CBNAO SfS", "CPMRCm")
+    name: "target_speed" for name in ("CMFtap", "CMCscp", "CMCscp SfS", "CMFtap SfS", "CBNAO SfS", "CPMRCm", "CBDA")
 }
 """Grid columns: target speed for these scenarios, impact location for the others (FC26 §3 grids)."""
 
