@@ -438,5 +438,6 @@ def test_the_example_notebook_runs(tmp_path, monkeypatch):
     assert not [output for output in outputs if output.output_type == "error"]
     text = "\n".join(output.get("text", "") + output.get("data", {}).get("text/plain", "") for output in outputs)
     assert "ego.cruise_speed_mps: Input should be greater than or equal to 0" in text
-    assert "NcapResults(11 tests, planner aeb, V2X off" in text
+    assert "NcapResults2026(30 tests, planner aeb, V2X off: FC Pedestrian & Cyclist 0.54)" in text
+    assert "Spread(mean=" in text
     assert "SweepFolder(" in text and "6 of 6 variants finished" in text

@@ -132,6 +132,23 @@ class NcapResults2026:
     def __len__(self) -> int:
         return len(self.rated.catalogue_run.rows)
 
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        return iter(self.rows)
+
+    def to_arrow(self) -> pa.Table:
+        """The per-test rows (run values joined with colour, criterion, KPI and grid place) as a pyarrow Table."""
+        import pyarrow as pa
+
+        return pa.Table.from_pylist(self.rows)
+
+    def to_pandas(self) -> pandas.DataFrame:
+        """The per-test rows as a pandas DataFrame (needs pandas, which vrusim does not install)."""
+        return pandas_frame(self.to_arrow())
+
+    def _repr_html_(self) -> str:
+        points = [{"sub_element": name, "points": round(value, 3)} for name, value in self.sub_elements.items()]
+        return html_table(points, ("sub_element", "points"), repr(self))
+
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict, the document `vrusim ncap --protocol 2026 --json` prints (without --verify)."""
         return {
