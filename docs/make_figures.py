@@ -1,6 +1,7 @@
 """Draw the README figures: the paper's six runs over time, and the FSM planner's Euro NCAP scorecard.
 
-Run: python docs/make_figures.py   (writes docs/img/paper_timelines.png and docs/img/ncap_scorecard_fsm.png)
+Run: python docs/make_figures.py   (writes docs/img/paper_timelines.png, docs/img/ncap_scorecard_fsm.png and
+docs/img/ncap2026_scorecard_aeb.png)
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from vrusim.paper.cases import CASES, paper_scenarios
 
 OUT = Path(__file__).parent / "img" / "paper_timelines.png"
 SCORECARD = Path(__file__).parent / "img" / "ncap_scorecard_fsm.png"
+SCORECARD_2026 = Path(__file__).parent / "img" / "ncap2026_scorecard_aeb.png"
 MODE_COLOURS = {"cruise": "#e8f1e8", "pre_slow": "#fff2c6", "emergency_brake": "#f8d0d0", "follow": "#dbe7f7"}
 
 
@@ -91,10 +93,21 @@ def scorecard() -> None:
     from vrusim.ncap.grid import run_tests, select
     from vrusim.viz.scorecard import write_scorecard_png
 
-    assessment = assess(run_tests(select(night=True), planner="fsm", v2x=False).rows)
+    assessment = assess(run_tests(select(night=True, protocol="2023"), planner="fsm", v2x=False).rows)
     write_scorecard_png(assessment, SCORECARD, dpi=80)
+
+
+def scorecard_2026() -> None:
+    """The whole 2026 grid, day and night, AEB planner without V2X: `vrusim ncap --planner aeb --night --out DIR`."""
+    from vrusim.ncap.grid import select
+    from vrusim.ncap.rated2026 import rate_2026
+    from vrusim.viz.scorecard2026 import write_scorecard_2026_png
+
+    rated = rate_2026(select(night=True, protocol="2026"), planner="aeb", v2x=False)
+    write_scorecard_2026_png(rated.assessment, SCORECARD_2026, dpi=60)
 
 
 if __name__ == "__main__":
     main()
     scorecard()
+    scorecard_2026()

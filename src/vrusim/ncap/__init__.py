@@ -1,1 +1,2 @@
-"""The Euro NCAP AEB VRU protocol: protocol tables, test to Scenario, running the grid, assessment and points."""
+"""The Euro NCAP VRU protocols by edition (2023: v4.5.1; 2026: FC26 / LSC26): tables, test to Scenario, the grid,
+assessment, points, predictions for the official calculator and the simulated lab verification."""

@@ -100,11 +100,12 @@ def compact_column(label: str) -> str:
 
 def kpi_text(cell: CellResult2026) -> str:
     """What a cell shows without verification: warning TTC (s) for FCW-judged cells, "✓" without impact, else the
-    KPI in whole km/h (one decimal below 10)."""
+    KPI in whole km/h (one decimal below 10); "hit" for a contact at 0 km/h (CBDA: a cyclist into the door of the
+    parked VUT)."""
     if cell.criterion == t.WARNING:
         return "–" if cell.kpi is None else f"{cell.kpi:.1f}"
     if not cell.kpi:
-        return "✓"
+        return "hit" if cell.colour == "red" else "✓"
     return f"{cell.kpi:.0f}" if cell.kpi >= 10.0 else f"{cell.kpi:.1f}"
 
 
