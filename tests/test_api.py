@@ -79,6 +79,7 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
     assert report["names"] == {
         "Metric": "type",
         "NcapResults": "type",
+        "NcapResults2026": "type",
         "Results": "type",
         "Scenario": "ModelMetaclass",
         "SweepFolder": "type",
@@ -104,7 +105,7 @@ def test_public_names_are_listed_documented_and_resolve():
         value = getattr(vrusim, name)
         if name != "__version__":
             assert inspect.getdoc(value), name
-    for cls in (vrusim.Results, vrusim.NcapResults, vrusim.SweepFolder):
+    for cls in (vrusim.Results, vrusim.NcapResults, vrusim.NcapResults2026, vrusim.SweepFolder):
         for name, member in vars(cls).items():
             if not name.startswith("_") and (callable(member) or isinstance(member, property)):
                 assert inspect.getdoc(member), f"{cls.__name__}.{name}"

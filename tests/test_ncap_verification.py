@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
 from vrusim.errors import UserInputError
-from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import run_tests, select
 from vrusim.ncap.rating2026 import assess_2026
 from vrusim.ncap.rating2026 import tables as t
@@ -125,22 +122,20 @@ def test_seeds_are_reproducible():
         monte_carlo(a, noisy, n_draws=0)
 
 
-def test_vrusim_simulator_perturbs_and_runs_one_batch_fast():
-    tests = [x for x in select(["CPNA-75", "CBNA-50"]) if x.cell.vut_speed_kph % 10 == 0]
+def test_vrusim_simulator_perturbs_and_runs_one_batch():
+    """The real 2026 CPNA and CBNA grids: unperturbed runs reproduce the grid's outcomes; the Monte Carlo covers
+    both scenarios (its speed is measured in benchmarks/bench_verification.py, not here)."""
+    tests = [t for t in select(["CPNA", "CBNA"], protocol="2026") if t.spec.code in ("CPNA", "CBNA")]
     run = run_tests(tests)
-    names = {"CPNA-75": "CPNA day", "CBNA-50": "CBNA"}
-    rows = [dict(r, protocol="2026", official_scenario=names[r["scenario"]], range="standard") for r in run.rows]
-    a = assess_2026(rows)
+    a = assess_2026(run.rows)
     scenarios = {b.test.test_id: b.scenario for b in run.built}
     first = run.built[0].scenario
     moved = perturbed_scenario(first, Perturbation(run.built[0].test.test_id, 1.0, 0.05, 0.1))
     assert moved.ego.cruise_speed_mps == pytest.approx(first.ego.cruise_speed_mps + KPH)
     assert moved.ego.start.y_m == pytest.approx(first.ego.start.y_m + 0.05)
     simulate = vrusim_simulator(scenarios)
-    same = simulate([Perturbation(r["test_id"], 0.0, 0.0, 0.0) for r in rows])
-    assert [o["collided"] for o in same] == [r["collided"] for r in rows]
-    start = time.perf_counter()
-    report = monte_carlo(a, simulate, n_draws=1000, n_perturbations=16, seed=0)
-    assert time.perf_counter() - start < 30.0
-    assert report.n_draws == 1000 and set(report.scenarios) <= {"CPNA day", "CBNA"}
-    assert build_test  # the scenarios come from ncap.build.build_test via run_tests
+    same = simulate([Perturbation(r["test_id"], 0.0, 0.0, 0.0) for r in run.rows])
+    assert [o["collided"] for o in same] == [r["collided"] for r in run.rows]
+    report = monte_carlo(a, simulate, n_draws=200, n_perturbations=4, seed=0)
+    assert report.n_draws == 200 and set(report.scenarios) == {"CPNA day", "CBNA"}
+    assert all(0.0 <= p <= 1.0 for p in report.pass_probability.values())

@@ -174,7 +174,9 @@ def test_paper_report_in_browser(browser, tmp_path):
 def test_ncap_report_in_browser(browser, tmp_path):
     folder = tmp_path / "ncap"
     selection = [arg for code in NCAP_SCENARIOS for arg in ("--scenario", code)]
-    result = invoke("ncap", *selection, "--out", folder, "--report", tmp_path / "direct.html", "--json")
+    result = invoke(
+        "ncap", "--protocol", "2023", *selection, "--out", folder, "--report", tmp_path / "direct.html", "--json"
+    )
     assert result.exit_code == 0, result.output
     assessment = json.loads(result.stdout)["assessment"]
     write(tmp_path, "ncap.html", "report", folder, "--out", tmp_path / "ncap.html")

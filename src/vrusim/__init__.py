@@ -15,7 +15,17 @@ import typing as _typing
 from vrusim.version import __version__
 
 if _typing.TYPE_CHECKING:
-    from vrusim.api import NcapResults, Results, SweepFolder, euro_ncap, load, open_sweep, run, run_sweep
+    from vrusim.api import (
+        NcapResults,
+        NcapResults2026,
+        Results,
+        SweepFolder,
+        euro_ncap,
+        load,
+        open_sweep,
+        run,
+        run_sweep,
+    )
     from vrusim.errors import UserInputError
     from vrusim.metrics.catalog import Metric, register_metric, unregister_metric
     from vrusim.scenario.schema import Scenario
@@ -25,6 +35,7 @@ if _typing.TYPE_CHECKING:
 __all__ = [
     "Metric",
     "NcapResults",
+    "NcapResults2026",
     "Results",
     "Scenario",
     "SweepFolder",

@@ -18,31 +18,19 @@ from typing import Any
 import numpy as np
 
 from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
+from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS, build_low_speed
 from vrusim.ncap.first_contact import front_first_contact, side_first_contact_at
 from vrusim.ncap.protocol import (
-    DUMMIES,
     KPH,
     LANE_WIDTH_M,
     OBSTRUCTION_CARS,
     OBSTRUCTIONS,
     TURN_PATHS,
-    Cell,
     Dummy,
-    NcapScenario,
 )
+from vrusim.ncap.test_case import SENSOR_FOV_DEG, SENSOR_RANGE_M, VUT, BuiltTest, NcapTest, Nominal
 from vrusim.scenario.routes import ego_route_spec
 from vrusim.scenario.schema import Ego, Route, Scenario
-
-VUT: dict[str, Any] = {
-    "length_m": 4.5,
-    "width_m": 1.8,
-    "wheelbase_m": 2.7,
-    "rear_overhang_m": 0.9,
-    "max_decel_mps2": 9.0,
-    "max_jerk_mps3": 30.0,
-    "actuator_lag_s": 0.1,
-}
-"""Vehicle under test: a mid-size car; braking limits of a modern AEB (our choice, docs/euroncap.md)."""
 
 LANE_Y_M = -LANE_WIDTH_M / 2
 """Centre line of the VUT's approach lane, m."""
@@ -55,8 +43,6 @@ EXIT_LENGTH_M = 25.0
 RSU_OFFSET_M = (5.0, 5.0)
 """Roadside unit position relative to the nominal impact point, m (our choice)."""
 RSU_COMM_RANGE_M, RSU_COVERAGE_M = 250.0, 40.0
-SENSOR_RANGE_M, SENSOR_FOV_DEG = 20.0, 120.0
-"""The onboard sensor of the VUT: the paper's default sector (day)."""
 REVERSE_START_M = 10.0
 """A reversing VUT starts with its rear axle this far before the collision point: V23 `Ego_initDist` (the rear
 axle, OpenSCENARIO's reference point, is placed 10 m from L; not given by v4.5.1). The bumper starts
@@ -65,70 +51,6 @@ BRAKE_AFTER_S = 1.5
 """CMRb: the motorcycle starts braking this long into the run (T0 = braking onset - 1 s, FC26)."""
 INSTANT_ACCEL_MPS2 = 1e3
 """Acceleration of a target with no acceleration distance (reaches its speed within one step)."""
-
-
-@dataclass(frozen=True)
-class NcapTest:
-    """One executable test of the catalogue: a scenario, one cell of its grid, and the lighting."""
-
-    spec: NcapScenario
-    cell: Cell
-    lighting: str
-    protocol: str
-    """The edition the scenario comes from (ncap/editions)."""
-
-    @property
-    def test_id(self) -> str:
-        """`CODE/<speed>kph[/variant]/<lighting>`, unique in the catalogue."""
-        variant = f"/{self.cell.variant}" if self.cell.variant else ""
-        return f"{self.spec.code}/{self.cell.vut_speed_kph:g}kph{variant}/{self.lighting}"
-
-    @property
-    def dummy(self) -> Dummy:
-        """The target of this cell."""
-        return DUMMIES[self.cell.target or self.spec.target]
-
-    @property
-    def impact_location(self) -> float:
-        """Impact location, a fraction of the VUT's width (or of its length for side impacts)."""
-        return self.cell.impact_location if self.cell.impact_location is not None else self.spec.impact_location
-
-    @property
-    def target_speed_mps(self) -> float:
-        """The target's steady speed, m/s (the VUT's speed for a target driving ahead with a headway)."""
-        if self.spec.headway_s > 0:
-            return self.cell.vut_speed_kph * KPH
-        kph = self.cell.target_speed_kph if self.cell.target_speed_kph is not None else self.spec.target_speed_kph
-        return kph * KPH
-
-
-@dataclass(frozen=True)
-class Nominal:
-    """Where and when the target meets the VUT if the VUT does not react (world frame, SI units)."""
-
-    impact_x_m: float
-    impact_y_m: float
-    time_s: float
-    local_x_m: float
-    """Where the target's reference point is at first contact, in the simulated VUT frame: ahead of the
-    rectangle centre, m (front impacts: the leading edge plus the circle's reach) ..."""
-    local_y_m: float
-    """... and left of it, m (front impacts: the impact location; a reversing VUT is simulated mirrored: its
-    travel direction is ahead)."""
-    ref_behind_centre_m: float
-    """The reference point lies this far behind the footprint centre along the target's heading, m."""
-    target_heading_rad: float
-    steady_from_s: float
-    """Time from which the target holds its steady speed, s (a standing target: 0)."""
-
-
-@dataclass(frozen=True)
-class BuiltTest:
-    """A catalogue test as a validated Scenario plus its nominal impact."""
-
-    test: NcapTest
-    scenario: Scenario
-    nominal: Nominal
 
 
 def _ego_geometry(reverse: bool) -> tuple[float, float]:
@@ -271,8 +193,6 @@ class _Contact:
 def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> BuiltTest:
     """The executable Scenario of one catalogue test, and its nominal impact (at first contact). LSC26 tests whose
     VUT starts from rest, creeps or stands parked are built by `ncap/build_low_speed.py`."""
-    from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS, build_low_speed
-
     if test.spec.layout in LOW_SPEED_LAYOUTS:
         return build_low_speed(test, planner, v2x)
     spec = test.spec

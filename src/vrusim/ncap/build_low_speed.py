@@ -19,7 +19,6 @@ from typing import Any
 import numpy as np
 
 from vrusim.engine.simulate import simulate
-from vrusim.ncap.build import SENSOR_FOV_DEG, SENSOR_RANGE_M, VUT, BuiltTest, NcapTest, Nominal
 from vrusim.ncap.editions.lsc26 import (
     CBDA_DOOR_OPERATION_M,
     CBDA_PATH_CLEARANCE_M,
@@ -29,6 +28,7 @@ from vrusim.ncap.editions.lsc26 import (
     CPMRCM_TARGET_START_M,
 )
 from vrusim.ncap.protocol import KPH, LANE_WIDTH_M, OBSTRUCTION_CARS
+from vrusim.ncap.test_case import SENSOR_FOV_DEG, SENSOR_RANGE_M, VUT, BuiltTest, NcapTest, Nominal
 from vrusim.scenario.schema import Scenario
 
 LOW_SPEED_LAYOUTS = ("standstill_start", "pedal_misapplication", "dooring")
