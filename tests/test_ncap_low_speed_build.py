@@ -3,6 +3,7 @@ planner at the nominal impact location), dooring and pedal misapplication agains
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import vrusim.ncap.grid as grid
@@ -105,3 +106,36 @@ def test_turning_standstill_start_is_refused_with_a_reason():
     test = NcapTest(spec, spec.cells[0], "day", "2026")
     with pytest.raises(ValueError, match="CMFtap SfS"):
         build_low_speed(test, "none", False)
+
+
+def test_cbda_cyclist_first_touches_the_opening_door_at_its_rear_edge_by_hand():
+    """CBDA, EBT 15 km/h, gap 1.0 m. By hand, in the world frame (VUT centre (0, -1.75), heading +x): the hinge of
+    the driver's door is 1.3 m behind the front and on the left side, H = (0.95, -0.85); the door (1.1 m long,
+    0.1 m thick) opens rearward-outward at 60°/s from t = 3.0 s, when the cyclist's front is the 8.0 m door
+    operation distance (LSC26 §3.2.3) behind the door's rearmost point x = -0.15; at angle θ it spans H + u·d
+    + w·n, u in [0, 1.1], w in [0, 0.1], with d = (-cos θ, sin θ), n = (sin θ, cos θ). The cyclist's circle
+    (r = 0.25 m) rides y = -1.75 + 0.9 + 1.0 = 0.15 m at 15 km/h. Scanning t at 1 ms: the first t at which
+    the circle's centre is within r of the door rectangle is the first contact, on the door's rear edge."""
+    test = next(
+        t for t in grid.select(["CBDA"], protocol="2026") if t.cell.gap_m == 1.0 and t.cell.target_speed_kph == 15.0
+    )
+    built = build_test(test, "none")
+    run = grid.run_tests([test], planner="none")
+    vru = built.scenario.vrus[0]
+    v, r = 15.0 / 3.6, 0.25
+    assert vru.start.y_m == pytest.approx(0.15) and vru.radius_m == pytest.approx(r)
+    assert vru.start.x_m + r + v * 3.0 == pytest.approx(-0.15 - 8.0)  # front 8.0 m from the door at t = 3.0 s
+    hinge = (0.95, -0.85)
+    t_s = 3.0 + np.arange(0.0, 3.0, 0.001)
+    theta = np.radians(np.minimum(60.0 * (t_s - 3.0), 60.0))
+    d = np.stack([-np.cos(theta), np.sin(theta)], axis=1)
+    n = np.stack([np.sin(theta), np.cos(theta)], axis=1)
+    rel = np.stack([vru.start.x_m + v * t_s - hinge[0], np.full_like(t_s, vru.start.y_m - hinge[1])], axis=1)
+    along, across = (rel * d).sum(axis=1), (rel * n).sum(axis=1)
+    gap_u = np.maximum(np.maximum(-along, along - 1.1), 0.0)
+    gap_w = np.maximum(np.maximum(-across, across - 0.1), 0.0)
+    first = int(np.argmax(np.hypot(gap_u, gap_w) <= r))
+    assert first > 0
+    assert run.rows[0]["collided"] and run.run.metrics.contact_time_s[0] == pytest.approx(t_s[first], abs=0.011)
+    nearest_u = min(max(along[first], 0.0), 1.1)  # the door point nearest the circle's centre, along the door
+    assert nearest_u == pytest.approx(1.1, abs=0.05)  # the circle meets the door's rear edge
