@@ -90,6 +90,12 @@ def test_a_missing_calculator_extra_is_one_clear_error(tmp_path, monkeypatch):
     assert not (tmp_path / "p.xlsx").exists()
 
 
+def test_the_terminal_names_the_scenarios_not_simulated_yet():
+    result = invoke("ncap", "--scenario", "CPNA", "--planner", "none")
+    assert result.exit_code == 0, result.output
+    assert "Not simulated yet" in result.stdout and "CMFtap-SfS" in result.stdout
+
+
 def test_list_shows_the_2026_edition_with_its_ranges():
     rows = json.loads(invoke("list", "--json").stdout)
     codes = {row["code"] for row in rows}
