@@ -27,19 +27,32 @@ def test_template_cells_cover_every_vru_grid(cells):
     assert len({(c.scenario, c.row_label, c.column_label) for c in cells}) == len(cells)
 
 
-@pytest.mark.parametrize(
-    ("pick", "warns"),
-    [
-        (lambda cell, options: "green", True),
-        (lambda cell, options: "red", True),
-        (seeded(7), True),
-    ],
-    ids=["all-green", "all-red", "mixed-7"],
-)
-def test_points_equal_the_official_calculator(cells, tmp_path, pick, warns):
-    assessment = assess_2026(rows_for(cells, pick, warns), {"CPNA": ["Speed"], "CBNA": ["Type", "Speed"]})
-    path = write_predictions(assessment, tmp_path / "pred.xlsx")
-    official = official_scores(path)
+GRIDS = {
+    "all-green": lambda cell, options: "green",
+    "all-red": lambda cell, options: "red",
+    "mixed-7": seeded(7),
+}
+"""Colour grids scored by both vrusim and the calculator (every planner warns: FCW rows judged by TTC)."""
+
+
+@pytest.fixture(scope="module")
+def scored(cells, tmp_path_factory):
+    """(vrusim's assessment, the calculator's scores) per grid; the calculator runs (about 13 s each, two
+    subprocesses) go in parallel."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    folder = tmp_path_factory.mktemp("predictions")
+    claims = {"CPNA": ["Speed"], "CBNA": ["Type", "Speed"]}
+    assessments = {name: assess_2026(rows_for(cells, pick, True), claims) for name, pick in GRIDS.items()}
+    paths = {name: write_predictions(a, folder / f"{name}.xlsx") for name, a in assessments.items()}
+    with ThreadPoolExecutor(max_workers=len(paths)) as pool:
+        official = dict(zip(paths, pool.map(official_scores, paths.values()), strict=True))
+    return {name: (assessments[name], official[name]) for name in GRIDS}
+
+
+@pytest.mark.parametrize("grid", list(GRIDS))
+def test_points_equal_the_official_calculator(scored, grid):
+    assessment, official = scored[grid]
     ours = grouped_points(assessment)
     for name, points in ours.items():
         # the calculator prints points to 3 decimals per range
