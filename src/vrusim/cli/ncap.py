@@ -5,7 +5,7 @@ from __future__ import annotations
 import itertools
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich import box
@@ -30,6 +30,7 @@ from vrusim.cli.report import check_report_option, write_report_option
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
+    from vrusim.cli.ncap2026 import Options2026
     from vrusim.ncap.assess import Assessment
 
 OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png", "verification.json")
@@ -185,12 +186,12 @@ def ncap_command(
 
 
 def _ncap_2026(
-    tests: list, planner: str, v2x: bool, options: Any, out: Path | None, report: Path | None, as_json: bool
+    tests: list, planner: str, v2x: bool, options: Options2026, out: Path | None, report: Path | None, as_json: bool
 ) -> None:
     from vrusim.cli.ncap2026 import print_2026, run_2026, write_2026_outputs
 
     with user_errors():
-        rated, elapsed = run_2026(tests, planner, v2x, options)
+        rated, elapsed = run_2026(tests, planner, v2x)
         verification = rated.verify(options.verify_draws, options.seed) if options.verify_draws else None
         written = write_2026_outputs(rated, verification, out, options.predictions)
         if report is not None:

@@ -54,7 +54,7 @@ def check_2026_options(protocol: str, predictions: Path | None, verify: int, see
     return Options2026(predictions, verify, seed or 0)
 
 
-def run_2026(tests: list[NcapTest], planner: str, v2x: bool, options: Options2026) -> tuple[Rated2026, float]:
+def run_2026(tests: list[NcapTest], planner: str, v2x: bool) -> tuple[Rated2026, float]:
     """Run and assess the tests (one batch); (the rating, wall seconds of the run)."""
     from vrusim.ncap.rated2026 import rate_2026
 
