@@ -13,7 +13,7 @@ from typing import Literal, Self
 
 from pydantic import Field, model_validator
 
-from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.strict import StrictModel, the_one_given
 
 DOOR_TRIGGERS = ("at_time_s", "vru_distance_m")
 """The conditions the door operation can start on (exactly one)."""
@@ -32,8 +32,7 @@ class DoorTrigger(StrictModel):
 
     @model_validator(mode="after")
     def _exactly_one(self) -> Self:
-        if sum(getattr(self, name) is not None for name in DOOR_TRIGGERS) != 1:
-            raise ValueError(f"give exactly one of {', '.join(DOOR_TRIGGERS)}")
+        the_one_given(self, DOOR_TRIGGERS)
         return self
 
 

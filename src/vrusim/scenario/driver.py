@@ -13,7 +13,7 @@ from typing import Self
 
 from pydantic import Field, model_validator
 
-from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.strict import StrictModel, the_one_given
 
 PHASE_STARTS = ("at_time_s", "ego_route_m")
 """The conditions a driver phase can start on (exactly one per phase)."""
@@ -32,8 +32,7 @@ class DriverPhase(StrictModel):
 
     @model_validator(mode="after")
     def _one_start(self) -> Self:
-        if sum(getattr(self, name) is not None for name in PHASE_STARTS) != 1:
-            raise ValueError(f"give exactly one of {', '.join(PHASE_STARTS)}")
+        the_one_given(self, PHASE_STARTS)
         return self
 
 

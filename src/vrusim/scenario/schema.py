@@ -14,7 +14,7 @@ from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model
 from vrusim.scenario.door import Door
 from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
-from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.strict import StrictModel, the_one_given
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
@@ -287,12 +287,9 @@ class Trigger(StrictModel):
 
     @model_validator(mode="after")
     def _exactly_one(self) -> Self:
-        given = [n for n in _TRIGGER_CONDITIONS if getattr(self, n) is not None]
-        if len(given) != 1:
-            raise ValueError(f"give exactly one of {', '.join(_TRIGGER_CONDITIONS)}")
-        needs_point = given[0] in ("ego_distance_m", "ego_time_to_arrival_s")
-        if needs_point and self.point is None:
-            raise ValueError(f"{given[0]} needs `point`")
+        given = the_one_given(self, _TRIGGER_CONDITIONS)
+        if given in ("ego_distance_m", "ego_time_to_arrival_s") and self.point is None:
+            raise ValueError(f"{given} needs `point`")
         return self
 
 

@@ -20,6 +20,15 @@ class StrictModel(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False, strict=True)
 
 
+def the_one_given(model: BaseModel, names: tuple[str, ...]) -> str:
+    """The name of the one field of `names` that `model` sets (not None); a ValueError "give exactly one of ..."
+    when none or several are set (for a model validator)."""
+    given = [name for name in names if getattr(model, name) is not None]
+    if len(given) != 1:
+        raise ValueError(f"give exactly one of {', '.join(names)}")
+    return given[0]
+
+
 def error_message(item: ErrorDetails) -> str:
     """One pydantic error as vrusim prints it after the field path: "unknown field" for a misspelt name, a
     wrong-type error with the value given (`Input should be a valid number, got true`), else pydantic's text."""

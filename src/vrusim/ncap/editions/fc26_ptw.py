@@ -6,6 +6,7 @@ Grids are FC26 §3.1 tables; standard / extended tags come from the official cal
 from __future__ import annotations
 
 from vrusim.ncap.editions.grid26 import il_grid, speed_grid
+from vrusim.ncap.editions.target_geometry import TARGET_GEOMETRY
 from vrusim.ncap.protocol import NcapScenario
 
 PTW_IL = (90, 75, 50, 25, 10)
@@ -49,8 +50,7 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
             extended_speeds_kph=(90.0, 100.0, 110.0, 120.0, 130.0),
         ),
         side="ahead",
-        headway_s=1.0,
-        target_decel_mps2=4.0,
+        **TARGET_GEOMETRY["CMRb"],
         official="CMRb",
         sources="FC26 §3.1.1.3 (grid, 'Time Headway = 1.0 s', 'target acceleration = -4 m/s2'); calculator",
     ),
@@ -69,7 +69,7 @@ MOTORCYCLIST: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="farside",
         side="oncoming",
-        target_line_m=1.75,
+        **TARGET_GEOMETRY["CMFtap"],
         official="CMFtap",
         sources="FC26 §3.1.2.2 (grid, paths 1.75 m from the centre marking, front wheel at 50 %); §1.2.4 "
         "(20 and 25 km/h path); calculator (ranges)",

@@ -7,6 +7,7 @@ a turn), pedal_misapplication and dooring; the scenarios' `requires` names what 
 
 from __future__ import annotations
 
+from vrusim.ncap.editions.target_geometry import TARGET_GEOMETRY
 from vrusim.ncap.protocol import Cell, NcapScenario
 
 SFS_START = "VUT starting from standstill (brake held until T0, then TB CA 102 accelerator profile)"
@@ -143,7 +144,7 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         function="avoidance",
         turn="farside",
         side="oncoming",
-        target_line_m=1.75,
+        **TARGET_GEOMETRY["CMFtap"],
         official="CMFtap SfS",
         unverified=("impact location 50 % (LSC26: 50 ± 25 %)",),
         sources="LSC26 §3.1.4 (EMT 30/45/60/80 km/h, 10 km/h farside path, stop at the central marking)",
