@@ -97,8 +97,10 @@ def test_cbnao_sfs_start_off_timing_by_hand():
 
 def test_cpmfc_distances_by_hand():
     """Creep 1.5 m/s at 1.0 m/s^2: d1 = 1.5^2 / 2 = 1.125 m; d2 = d1 + 1.5 m/s * 1 s = 2.625 m (UNVERIFIED)."""
-    assert cpmfc_distance_m("d1-IL50") == pytest.approx(1.125)
-    assert cpmfc_distance_m("d2-IL50") == pytest.approx(2.625)
+    assert cpmfc_distance_m("d1") == pytest.approx(1.125)
+    assert cpmfc_distance_m("d2") == pytest.approx(2.625)
+    with pytest.raises(ValueError, match="expected d1 or d2"):
+        cpmfc_distance_m("d3")
 
 
 def test_turning_standstill_start_is_refused_with_a_reason():

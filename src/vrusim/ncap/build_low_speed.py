@@ -222,10 +222,13 @@ def _reversing_start(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
     return BuiltTest(test, scenario, nominal)
 
 
-def cpmfc_distance_m(variant: str) -> float:
-    """CPMFC d (§3.2.2.3): d1 = creeping distance until the creep speed; d2 = d1 + CPMFC_CREEP_AFTER_S at it."""
+def cpmfc_distance_m(row: str) -> float:
+    """CPMFC d of grid row "d1" / "d2" (§3.2.2.3): d1 = creeping distance until the creep speed; d2 = d1 +
+    CPMFC_CREEP_AFTER_S at it."""
+    if row not in ("d1", "d2"):
+        raise ValueError(f"CPMFC grid row: expected d1 or d2, got {row!r}")
     d1 = CREEP_SPEED_MPS**2 / (2 * CREEP_ACCEL_MPS2)
-    return d1 + (CREEP_SPEED_MPS * CPMFC_CREEP_AFTER_S if variant.startswith("d2") else 0.0)
+    return d1 + (CREEP_SPEED_MPS * CPMFC_CREEP_AFTER_S if row == "d2" else 0.0)
 
 
 def _pedal_misapplication(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
@@ -233,7 +236,7 @@ def _pedal_misapplication(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
     point 1.5 m (nominal of 1.5 + [0.5]) ahead of the front at T_ACC."""
     length, width = VUT["length_m"], VUT["width_m"]
     radius = test.dummy.width_m / 2
-    d = cpmfc_distance_m(test.cell.variant)
+    d = cpmfc_distance_m(test.cell.row_label)
     child_x = length / 2 + d + CPMFC_TACC_TO_TARGET_M[0]  # VUT centre starts at x = 0
     local_y = (test.impact_location - 0.5) * width
     driver = {

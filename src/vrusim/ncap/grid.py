@@ -59,16 +59,6 @@ def unbuilt(protocol: str | None = None) -> list[NcapScenario]:
     return [s for s in edition(protocol).scenarios if s.requires]
 
 
-def grid_row(test: NcapTest) -> str:
-    """The row label of a low-speed test in the protocol's grid when it is not the VUT speed: the distance
-    ("1.50 m", LSC26 d / gap rows) or CPMFC's start case ("d1", "d2"); else empty."""
-    if test.cell.gap_m is not None:
-        return f"{test.cell.gap_m:.2f} m"
-    if test.spec.layout == "pedal_misapplication":
-        return test.cell.variant.split("-")[0]
-    return ""
-
-
 @dataclass
 class CatalogueRun:
     """A catalogue batch: the built tests, the batch run, and one result row per test."""
@@ -106,7 +96,7 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
                 "target_speed_kph": round(test.target_speed_mps / KPH, 3),
                 "impact_location": test.impact_location,
                 "range": test.cell.range,
-                "grid_row": grid_row(test),
+                "grid_row": test.cell.row_label,
                 "official_scenario": test.spec.official.format(lighting=test.lighting),
                 "extension": test.spec.extension,
                 "planner": planner,

@@ -146,6 +146,9 @@ class Cell:
     """The cell's function when it differs from its scenario's (2026: FCW rows inside an AEB grid)."""
     gap_m: float | None = None
     """2026 low-speed grids: the distance the grid varies (CBNAO SfS d, CPMRCm / CBDA rear gap), m."""
+    row_label: str = ""
+    """2026 low-speed grids: the protocol's label of the cell's grid row where it is not the VUT speed
+    ("1.50 m", CPMFC's "d1" / "d2"); empty elsewhere."""
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,11 @@ CBDA_PATH_CLEARANCE_M = 1.0
 
 def _pairs(rows: tuple[float, ...], speeds: tuple[float, ...], label: str) -> tuple[Cell, ...]:
     """Cells gap/d × target speed at a standing VUT (speed 0), variant `<label><gap>-<speed>kph`."""
-    return tuple(Cell(0.0, f"{label}{g:.2f}-T{t:g}", target_speed_kph=t, gap_m=g) for g in rows for t in speeds)
+    return tuple(
+        Cell(0.0, f"{label}{g:.2f}-T{t:g}", target_speed_kph=t, gap_m=g, row_label=f"{g:.2f} m")
+        for g in rows
+        for t in speeds
+    )
 
 
 LOW_SPEED: tuple[NcapScenario, ...] = (
@@ -94,7 +98,9 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         "pedal_misapplication",
         "EPTc",
         0.0,
-        tuple(Cell(0.0, f"{d}-IL{p}", impact_location=p / 100) for d in ("d1", "d2") for p in (25, 50, 75)),
+        tuple(
+            Cell(0.0, f"{d}-IL{p}", impact_location=p / 100, row_label=d) for d in ("d1", "d2") for p in (25, 50, 75)
+        ),
         function="ACPE",
         official="CPMFC",
         sources="LSC26 §3.2.2.3 (d1/d2, 25/50/75 %, TACC 1.5 m before the child)",
