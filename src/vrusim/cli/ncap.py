@@ -12,6 +12,7 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
+from vrusim.cli.ncap2026 import OUTPUT_FILES
 from vrusim.cli.options import (
     ForceOption,
     JsonOption,
@@ -33,8 +34,6 @@ if TYPE_CHECKING:
     from vrusim.cli.ncap2026 import Options2026
     from vrusim.ncap.assess import Assessment
 
-OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png", "verification.json")
-"""What `vrusim ncap --out DIR` may write (verification.json: 2026 with --verify)."""
 GEOMETRY_LABELS = {
     "lateral_offset_m": "off",
     "start_to_impact_m": "d",

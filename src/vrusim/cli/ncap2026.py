@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from vrusim.ncap.verification import VerificationReport
 
 OUTPUT_FILES = ("results.csv", "results.parquet", "scorecard.png", "verification.json")
-"""What `vrusim ncap --protocol 2026 --out DIR` writes (verification.json only with --verify)."""
+"""What `vrusim ncap --out DIR` may write (both editions; verification.json: 2026 with --verify)."""
 PREDICTION_SUFFIXES = (".xlsx",)
 
 
@@ -77,14 +77,12 @@ def write_2026_outputs(
 
 
 def _write_folder(rated: Rated2026, verification: VerificationReport | None, folder: Path) -> list[Path]:
-    import json
-
     import pyarrow as pa
     import pyarrow.csv as pa_csv
     import pyarrow.parquet as pq
 
     from vrusim.io.atomic import write_together
-    from vrusim.ncap.results2026 import result_rows_2026
+    from vrusim.ncap.results2026 import result_rows_2026, verification_text
     from vrusim.viz.scorecard2026 import scorecard_2026_figure
 
     table = pa.Table.from_pylist(result_rows_2026(rated.catalogue_run.rows, rated.assessment, verification))
@@ -96,7 +94,7 @@ def _write_folder(rated: Rated2026, verification: VerificationReport | None, fol
         (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
     ]
     if verification is not None:
-        text = json.dumps(verification.to_dict(), indent=1, allow_nan=False)
+        text = verification_text(verification)
         targets.append((folder / json_name, lambda temp: temp.write_text(text, encoding="utf-8"), "verification"))
     written = write_together(targets)
     if verification is None:  # a verification of an earlier run (--force) would not describe these results

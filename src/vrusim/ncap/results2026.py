@@ -78,9 +78,14 @@ def verification_from_dict(document: Mapping[str, Any]) -> VerificationReport:
         raise UserInputError(f"{VERIFICATION_FILE}: not a verification report ({error!r})") from None
 
 
+def verification_text(verification: VerificationReport) -> str:
+    """The verification.json document of a verification (read back by `read_verification`)."""
+    return json.dumps(verification.to_dict(), indent=1, allow_nan=False)
+
+
 def write_verification(verification: VerificationReport, folder: str | Path) -> Path:
     """Write FOLDER/verification.json atomically; return its path."""
-    text = json.dumps(verification.to_dict(), indent=1, allow_nan=False)
+    text = verification_text(verification)
     path = Path(folder) / VERIFICATION_FILE
     return write_atomically(path, lambda temp: temp.write_text(text, encoding="utf-8"), "verification")
 
