@@ -29,10 +29,11 @@ def test_template_cells_cover_every_vru_grid(cells):
 
 GRIDS = {
     "all-green": lambda cell, options: "green",
-    "all-red": lambda cell, options: "red",
     "mixed-7": seeded(7),
 }
-"""Colour grids scored by both vrusim and the calculator (every planner warns: FCW rows judged by TTC)."""
+"""Colour grids scored by both vrusim and the calculator (every planner warns: FCW rows judged by TTC), next to
+vrusim's own whole-grid AEB assessment (its reds, below half of the standard points, exercise the robustness
+floor). Each calculator run takes about 13 s: three in parallel keep the suite's budget."""
 
 
 @pytest.fixture(scope="module")
@@ -44,13 +45,22 @@ def scored(cells, tmp_path_factory):
     folder = tmp_path_factory.mktemp("predictions")
     claims = {"CPNA": ["Speed"], "CBNA": ["Type", "Speed"]}
     assessments = {name: assess_2026(rows_for(cells, pick, True), claims) for name, pick in GRIDS.items()}
+    assessments["vrusim-aeb"] = _whole_grid_aeb()
     paths = {name: write_predictions(a, folder / f"{name}.xlsx") for name, a in assessments.items()}
     with ThreadPoolExecutor(max_workers=len(paths)) as pool:
         official = dict(zip(paths, pool.map(official_scores, paths.values()), strict=True))
-    return {name: (assessments[name], official[name]) for name in GRIDS}
+    return {name: (assessments[name], official[name]) for name in assessments}
 
 
-@pytest.mark.parametrize("grid", list(GRIDS))
+def _whole_grid_aeb():
+    """vrusim's own assessment of the whole 2026 grid, day and night, AEB planner without V2X."""
+    from vrusim.ncap.grid import select
+    from vrusim.ncap.rated2026 import rate_2026
+
+    return rate_2026(select(night=True, protocol="2026"), planner="aeb").assessment
+
+
+@pytest.mark.parametrize("grid", [*GRIDS, "vrusim-aeb"])
 def test_points_equal_the_official_calculator(scored, grid):
     assessment, official = scored[grid]
     ours = grouped_points(assessment)
@@ -59,6 +69,17 @@ def test_points_equal_the_official_calculator(scored, grid):
         assert official["scenarios"][name] == pytest.approx(points, abs=2e-3), name
     for name, points in assessment.sub_elements.items():
         assert official["sub_elements"][name] == pytest.approx(points, abs=5e-3), name
+
+
+def test_a_partial_selection_names_the_scenarios_it_leaves_blank(cells, scored):
+    from vrusim.ncap.grid import unbuilt
+    from vrusim.ncap.predictions import unpredicted_scenarios
+
+    not_built = sorted(spec.official for spec in unbuilt("2026"))  # CMFtap SfS: `requires`, not simulated yet
+    assert unpredicted_scenarios(scored["vrusim-aeb"][0], cells) == not_built
+    partial = assess_2026([row for row in rows_for(cells, seeded(3), True) if row["official_scenario"] == "CBNA"])
+    blank = unpredicted_scenarios(partial, cells)
+    assert "CBNA" not in blank and {"CPNA day", "CMRs", "CPMFC"} <= set(blank)
 
 
 def test_written_cells_hold_colour_words(cells, tmp_path):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import typer
 from rich.markup import escape
 
 from vrusim.cli.output import console, print_json
@@ -71,6 +72,16 @@ def write_2026_outputs(
     written: list[Path] = []
     if predictions is not None:  # first: it can refuse an assessment, the folder's files cannot
         written.append(rated.write_predictions(predictions))
+        from vrusim.ncap.predictions import unpredicted_scenarios
+
+        blank = unpredicted_scenarios(rated.assessment)
+        if blank:
+            typer.echo(
+                f"Note: {predictions} leaves {len(blank)} of the calculator's VRU scenarios blank "
+                f"({', '.join(blank)}). The calculator scores blank grids too (a blank Frontal Collisions grid can "
+                "earn its robustness points): only the whole grid (--night, no --scenario) gives vrusim's points.",
+                err=True,
+            )
     if folder is not None:
         written += _write_folder(rated, verification, folder)
     return written

@@ -182,6 +182,16 @@ def _fill(book: Any, assessment: Assessment2026, method: str, cells: list[Templa
     return sorted(f"{s} {r} / {k}" for s, r, k in set(colours) - placed)
 
 
+def unpredicted_scenarios(assessment: Assessment2026, cells: list[TemplateCell] | None = None) -> list[str]:
+    """The calculator's VRU scenarios with template cells the assessment leaves blank (a selection that is not the
+    whole grid). The calculator still scores them: blank grids can earn their robustness points, so only a
+    whole-grid file gives the points vrusim reports."""
+    assessed = {(c.scenario, c.row_label, c.column_label) for c in assessment.cells}
+    return sorted(
+        {c.scenario for c in cells or template_cells() if (c.scenario, c.row_label, c.column_label) not in assessed}
+    )
+
+
 def write_predictions(assessment: Assessment2026, path: str | Path, method: str = "VTA") -> Path:
     """Fill the calculator's template with the assessment's colours and write it atomically to `path`.
 
