@@ -73,7 +73,6 @@ def test_predictions_fill_the_official_template_with_the_simulated_colours(tmp_p
         (["--predictions", "{tmp}/missing/p.xlsx"], ["--predictions", "does not exist"]),
         (["--predictions", "{tmp}/p.csv"], ["--predictions", ".xlsx"]),
         (["--scenario", "CPNA-25"], ["--scenario", "CPNA-25", "2026"]),
-        (["--scenario", "CMFtap-SfS"], ["--scenario", "cannot be simulated yet"]),
     ],
 )
 def test_bad_2026_options_are_refused_before_anything_runs(tmp_path, args, names):
@@ -88,12 +87,6 @@ def test_a_missing_calculator_extra_is_one_clear_error(tmp_path, monkeypatch):
     result = invoke("ncap", "--scenario", "CPNA", "--predictions", tmp_path / "p.xlsx")
     assert_user_error(result, "ncap2026", "euroncap-rating-2026")
     assert not (tmp_path / "p.xlsx").exists()
-
-
-def test_the_terminal_names_the_scenarios_not_simulated_yet():
-    result = invoke("ncap", "--scenario", "CPNA", "--planner", "none")
-    assert result.exit_code == 0, result.output
-    assert "Not simulated yet" in result.stdout and "CMFtap-SfS" in result.stdout
 
 
 def test_list_shows_the_2026_edition_with_its_ranges():

@@ -23,8 +23,8 @@ from vrusim.geometry.paths import (
     path_poses,
     sample_path,
 )
-from vrusim.ncap.build import ncap_turn_route
 from vrusim.ncap.protocol import TURN_PATHS
+from vrusim.ncap.turn_placement import ncap_turn_route
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.scenario.routes import ego_route_spec, route_spec
 from vrusim.scenario.schema import Route
@@ -289,6 +289,10 @@ def _route_error(route: dict) -> str:
         ({"kind": "left", "clothoid_angle_deg": -1}, "ego.route.clothoid_angle_deg: Input should be greater than"),
         ({"kind": "left", "clothoid_angle_deg": 90}, "ego.route.clothoid_angle_deg: Input should be less than 90"),
         ({"kind": "left", "clothoid_entry_radius_m": 0}, "ego.route.clothoid_entry_radius_m: Input should be greater"),
+        ({"kind": "straight", "start_in_turn_m": 1.0}, "ego.route: start_in_turn_m needs a turn"),
+        ({"kind": "left", "turn_at_m": 5.0, "start_in_turn_m": 1.0}, "has no approach (turn_at_m 0)"),
+        ({"kind": "left", "radius_m": 9, "angle_deg": 90, "start_in_turn_m": 20}, "shorter than the turn (14.14 m)"),
+        ({"kind": "left", "start_in_turn_m": -1}, "ego.route.start_in_turn_m: Input should be greater than or equal"),
     ],
 )
 def test_bad_clothoid_route_is_named(route, reason):
@@ -309,6 +313,28 @@ def test_length_check_covers_clothoids():
     Route(**base, length_m=needed + 1e-9)
     with pytest.raises(ValueError, match="length_m must cover"):
         Route(**base, length_m=needed - 1e-6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    key=st.sampled_from(sorted(PROTOCOL)),
+    fraction=st.floats(0.0, 0.99),
+    x0=st.floats(-50, 50),
+    h0=st.floats(-math.pi, math.pi),
+)
+def test_a_route_that_begins_inside_its_turn_is_the_rest_of_the_whole_turn(key, fraction, x0, h0):
+    """`start_in_turn_m` = s: from the whole route's pose at station s, the route's poses at u equal the whole
+    route's at s + u (a rigid continuation: same heading and curvature, positions within 1e-6 m)."""
+    whole = ncap_turn_route(*key, 0.0, EXIT)
+    skip = fraction * whole.turn_length_m
+    x, y, heading, _ = path_poses(route_spec(whole, x0, 1.0, h0), np.array([skip]))
+    rest = whole.model_copy(update={"start_in_turn_m": skip, "length_m": whole.length_m - skip})
+    assert rest.turn_length_m == pytest.approx(whole.turn_length_m - skip)
+    stations = np.linspace(0.0, rest.length_m, 57)
+    expected = path_poses(route_spec(whole, x0, 1.0, h0), stations + skip)
+    got = path_poses(route_spec(rest, float(x[0]), float(y[0]), float(heading[0])), stations)
+    for a, b in zip(got, expected, strict=True):
+        np.testing.assert_allclose(a, b, atol=1e-6)
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -63,12 +63,7 @@ def test_list_json_names_the_edition_rows():
     assert "CPRA-Cs" in result.stdout
 
 
-def test_scenarios_that_cannot_be_built_yet_are_left_out_and_refused_by_name():
-    from vrusim.ncap.grid import unbuilt
-
-    missing = unbuilt("2026")
-    assert [s.code for s in missing] == ["CMFtap-SfS"]
-    assert not {t.spec.code for t in select(protocol="2026", night=True)} & {s.code for s in missing}
-    with pytest.raises(UserInputError, match="'CMFtap-SfS' cannot be simulated yet"):
-        select(["CMFtap-SfS"], protocol="2026")
-    assert {t.spec.code for t in select(["CMFtap"], protocol="2026")} == {"CMFtap"}
+def test_the_whole_2026_edition_is_selected_and_a_code_prefix_selects_its_rows():
+    assert {t.spec.code for t in select(protocol="2026", night=True)} == set(edition("2026").codes)
+    assert {t.spec.code for t in select(["CMFtap"], protocol="2026")} == {"CMFtap", "CMFtap-SfS"}
+    assert {t.spec.code for t in select(["CMFtap-S"], protocol="2026")} == {"CMFtap-SfS"}

@@ -3,10 +3,14 @@ planner at the nominal impact location), dooring and pedal misapplication agains
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 import vrusim.ncap.grid as grid
+from vrusim.engine.simulate import simulate
+from vrusim.geometry.paths import path_poses
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import VUT, NcapTest, build_test
 from vrusim.ncap.build_low_speed import (
@@ -18,7 +22,11 @@ from vrusim.ncap.build_low_speed import (
     start_off_probe_s,
     start_off_time_s,
 )
+from vrusim.ncap.build_turn_start import stop_station_m
 from vrusim.ncap.editions import edition
+from vrusim.ncap.first_contact import reference_point_at_first_contact
+from vrusim.ncap.turn_placement import placed_turn_spec
+from vrusim.scenario.routes import ego_route_spec
 
 CODES = ("CBNAO-SfS", "CMCscp-SfS", "CPMRCm", "CPMFC", "CBDA")
 TOLERANCE_M = 0.05
@@ -103,11 +111,55 @@ def test_cpmfc_distances_by_hand():
         cpmfc_distance_m("d3")
 
 
-def test_turning_standstill_start_is_refused_with_a_reason():
+def test_turning_standstill_start_is_left_to_build_test():
     spec = edition("2026").scenario("CMFtap-SfS")
     test = NcapTest(spec, spec.cells[0], "day", "2026")
-    with pytest.raises(ValueError, match="CMFtap SfS"):
+    with pytest.raises(ValueError, match=r"CMFtap SfS.*ncap\.build\.build_test"):
         build_low_speed(test, "none", False)
+
+
+def _cmftap_sfs(planner: str = "none") -> list:
+    return [build_test(t, planner) for t in grid.select(["CMFtap-SfS"], protocol="2026")]
+
+
+def test_cmftap_sfs_stands_with_its_front_farside_corner_at_the_central_marking():
+    """LSC26 §3.1.4: the front farside (left) corner on the inner side of the central marking, y = -0.10 / 2 m
+    (the marking's centre line is y = 0 between the 3.5 m lanes), within the protocol's 0.10 m; the VUT faces
+    along the 10 km/h farside path there, so between 0 and 2 alpha + beta = 90° to the left."""
+    for built in _cmftap_sfs():
+        ego = built.scenario.ego
+        heading = math.radians(ego.start.heading_deg)
+        corner_y = ego.start.y_m + VUT["length_m"] / 2 * math.sin(heading) + VUT["width_m"] / 2 * math.cos(heading)
+        assert corner_y == pytest.approx(-0.05, abs=0.005)
+        assert 0.0 < ego.start.heading_deg < 90.0
+        assert ego.initial_speed_mps == 0.0 and ego.route.start_in_turn_m > 0.0
+        assert ego.driver.phases[0].target_speed_mps == pytest.approx(GO_SPEED_MPS)
+
+
+def test_cmftap_sfs_route_after_the_stop_is_the_protocol_path():
+    """The route the VUT takes from its stop is the 10 km/h farside path of a moving CMFtap from the same
+    station on (the exact poses, within 1 mm)."""
+    built = _cmftap_sfs()[0]
+    stop = stop_station_m("farside")
+    stations = np.arange(0.0, 15.0, 0.5)
+    got = path_poses(ego_route_spec(built.scenario.ego), stations)
+    whole = path_poses(placed_turn_spec("farside", 10.0), stations + stop)
+    for a, b in zip(got[:3], whole[:3], strict=True):
+        np.testing.assert_allclose(a, b, atol=1e-3)
+
+
+def test_cmftap_sfs_first_contact_at_the_nominal_location_without_a_function():
+    """Planner `none`: the EMT (oncoming in the lane 1.75 m left of the centre marking) first touches the VUT
+    front with its reference point at 50 % of the width (±5 cm), at the nominal time (±0.02 s)."""
+    built = _cmftap_sfs()
+    run = simulate([b.scenario for b in built], trace=True)
+    offsets = reference_point_at_first_contact(built, run)
+    for b, offset, summary in zip(built, offsets, summary_rows(run), strict=True):
+        assert summary["collided"] and summary["impact_body_side"] == "front", b.test.test_id
+        assert offset[1] == pytest.approx(0.0, abs=TOLERANCE_M), b.test.test_id
+        assert offset[0] == pytest.approx(b.nominal.local_x_m, abs=TOLERANCE_M), b.test.test_id
+        assert summary["contact_time_s"] == pytest.approx(b.nominal.time_s, abs=0.02), b.test.test_id
+        assert b.scenario.vrus[0].start.y_m == pytest.approx(1.75) and b.scenario.vrus[0].heading_deg == 180.0
 
 
 def test_cbda_cyclist_first_touches_the_opening_door_at_its_rear_edge_by_hand():

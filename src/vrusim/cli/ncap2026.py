@@ -138,10 +138,5 @@ def print_2026(
         f"{len(rated.catalogue_run.rows)} tests (protocol 2026), planner {rated.planner}, "
         f"V2X {'on' if rated.v2x else 'off'}: simulated in one batch in {elapsed_s:.2f} s ({run.steps} steps)."
     )
-    from vrusim.ncap.grid import unbuilt
-
-    missing = [spec.code for spec in unbuilt("2026")]
-    if missing:
-        terminal.print(f"Not simulated yet (`vrusim list` says why): {', '.join(missing)}.")
     for path in written:
         terminal.print(f"Wrote {escape(str(path))}")

@@ -12,34 +12,37 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from vrusim.geometry.paths import SAMPLE_SPACING_M, sample_path
+from vrusim.geometry.paths import SAMPLE_SPACING_M
 from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS, build_low_speed
+from vrusim.ncap.build_turn_start import stopped_in_turn_ego
+from vrusim.ncap.editions.lsc26 import SFS_TURN_PATH_KPH
 from vrusim.ncap.first_contact import front_first_contact, side_first_contact_at
 from vrusim.ncap.protocol import (
     KPH,
     LANE_WIDTH_M,
     OBSTRUCTION_CARS,
     OBSTRUCTIONS,
-    TURN_PATHS,
     Dummy,
 )
 from vrusim.ncap.test_case import SENSOR_FOV_DEG, SENSOR_RANGE_M, VUT, BuiltTest, NcapTest, Nominal
-from vrusim.scenario.routes import ego_route_spec
-from vrusim.scenario.schema import Ego, Route, Scenario
+from vrusim.ncap.turn_placement import (
+    EXIT_LENGTH_M,
+    LANE_Y_M,
+    ncap_turn_route,
+    placed_turn,
+    route_crossing,
+    vut_geometry,
+)
+from vrusim.scenario.schema import Scenario
 
-LANE_Y_M = -LANE_WIDTH_M / 2
-"""Centre line of the VUT's approach lane, m."""
 LEAD_TIME_S = 4.5
 """The VUT starts at least this long (at test speed) before the nominal impact: T0 = TTC 4 s plus 0.5 s."""
 TAIL_TIME_S = 6.0
 """Simulated time after the nominal impact, s (enough to brake to a stop from 130 km/h)."""
-EXIT_LENGTH_M = 25.0
-"""Route beyond the nominal impact point (or the end of a turn), m."""
 RSU_OFFSET_M = (5.0, 5.0)
 """Roadside unit position relative to the nominal impact point, m (our choice)."""
 RSU_COMM_RANGE_M, RSU_COVERAGE_M = 250.0, 40.0
@@ -53,13 +56,6 @@ INSTANT_ACCEL_MPS2 = 1e3
 """Acceleration of a target with no acceleration distance (reaches its speed within one step)."""
 
 
-def _ego_geometry(reverse: bool) -> tuple[float, float]:
-    """(rear axle → leading edge, rear axle → rectangle centre) in the direction of travel, m."""
-    length, wheelbase, rear = VUT["length_m"], VUT["wheelbase_m"], VUT["rear_overhang_m"]
-    trailing = length - wheelbase - rear if reverse else rear
-    return length - trailing, length / 2 - trailing
-
-
 def _vut_point(test: NcapTest) -> tuple[float, float]:
     """The point of the VUT the target meets, in the simulated frame: (ahead of the rear axle, left of the
     centre line), m. Front impacts: `impact_location` of the width on the leading edge, 0 = the vehicle's
@@ -67,7 +63,7 @@ def _vut_point(test: NcapTest) -> tuple[float, float]:
     Side impacts: `impact_location` of the length from the rear, on the left or right side."""
     spec = test.spec
     reverse = spec.layout == "reverse"
-    rear_to_edge, rear_to_centre = _ego_geometry(reverse)
+    rear_to_edge, rear_to_centre = vut_geometry(reverse)
     if spec.impact_side != "front":
         along = test.impact_location * VUT["length_m"] - (VUT["length_m"] / 2 - rear_to_centre)
         return along, (VUT["width_m"] / 2) * (1.0 if spec.impact_side == "left" else -1.0)
@@ -88,56 +84,13 @@ def _footprint(test: NcapTest) -> tuple[float, float]:
     radius = dummy.width_m / 2
     if spec.layout in ("longitudinal", "rear"):
         centre, use = radius, "longitudinal"
-    elif spec.layout in ("turning", "oncoming") and "turning" in dummy.ref_from_rear_m:
+    elif spec.turn is not None and "turning" in dummy.ref_from_rear_m:
         centre, use = dummy.length_m - radius, "turning"
     elif spec.layout == "crossing" and spec.impact_side != "front":
         centre, use = dummy.length_m - radius, "crossing"
     else:
         centre, use = dummy.length_m / 2, "crossing"
     return radius, centre - dummy.ref_from_rear_m[use]
-
-
-def _route_samples(ego: dict) -> np.ndarray:
-    """The sampled rear-axle route of an ego mapping: [N, 5] x, y, tangent x, tangent y, curvature."""
-    return sample_path(ego_route_spec(Ego.model_validate(ego)))
-
-
-def _crossing(
-    samples: np.ndarray, along_m: float, left_m: float, point: np.ndarray, direction: np.ndarray
-) -> tuple[float, np.ndarray]:
-    """First route station (m) where the VUT's point (`along_m` ahead of the rear axle, `left_m` left of the
-    centre line) crosses the line through `point` along `direction`, and that crossing point (world, m)."""
-    xy, tangent = samples[:, :2], samples[:, 2:4]
-    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    moving = xy + along_m * tangent + left_m * normal
-    rel = moving - point
-    side = direction[0] * rel[:, 1] - direction[1] * rel[:, 0]
-    change = np.flatnonzero(np.sign(side[:-1]) * np.sign(side[1:]) <= 0)
-    if len(change) == 0:
-        raise ValueError("the VUT route never crosses the target path")
-    i = int(change[0])
-    frac = side[i] / (side[i] - side[i + 1]) if side[i] != side[i + 1] else 0.0
-    return (i + frac) * SAMPLE_SPACING_M, moving[i] + frac * (moving[i + 1] - moving[i])
-
-
-def ncap_turn_route(side: str, speed_kph: float, turn_at_m: float, exit_m: float) -> Route:
-    """The protocol's turning route for `side` ("farside" = left, "nearside" = right) at `speed_kph`:
-    `turn_at_m` of straight approach, the clothoid – arc – clothoid turn, `exit_m` of straight exit."""
-    if (side, speed_kph) not in TURN_PATHS:
-        raise ValueError(f"no Euro NCAP turn for {side} at {speed_kph:g} km/h; known: {sorted(TURN_PATHS)}")
-    path = TURN_PATHS[side, speed_kph]
-    alpha = math.radians(path.clothoid_angle_deg)
-    clothoid_m = 2 * alpha / (1 / path.entry_radius_m + 1 / path.radius_m)
-    turn_m = 2 * clothoid_m + path.radius_m * math.radians(path.arc_angle_deg)
-    return Route(
-        kind="left" if side == "farside" else "right",
-        turn_at_m=turn_at_m,
-        radius_m=path.radius_m,
-        angle_deg=path.arc_angle_deg,
-        clothoid_angle_deg=path.clothoid_angle_deg,
-        clothoid_entry_radius_m=path.entry_radius_m,
-        length_m=turn_at_m + turn_m + exit_m,
-    )
 
 
 def _target_line(test: NcapTest) -> tuple[np.ndarray, np.ndarray]:
@@ -148,7 +101,7 @@ def _target_line(test: NcapTest) -> tuple[np.ndarray, np.ndarray]:
         if spec.side == "farside":
             return np.array([-junction_x, 0.0]), np.array([0.0, -1.0])
         return np.array([junction_x, 0.0]), np.array([0.0, 1.0])
-    if spec.layout in ("turning", "oncoming"):
+    if spec.turn is not None:
         y = spec.target_line_m if spec.turn == "farside" else -spec.target_line_m
         forward = spec.moves_with_vut and spec.layout == "turning"
         return np.array([0.0, y]), np.array([1.0 if forward else -1.0, 0.0])
@@ -165,7 +118,7 @@ def _target_travel(test: NcapTest) -> str:
         return "braking" if spec.headway_s > 0 else "still"
     if test.target_speed_mps == 0.0:
         return "still"
-    if spec.layout == "oncoming" or "flying" in spec.tags:
+    if spec.layout == "oncoming" or spec.side == "oncoming" or "flying" in spec.tags:
         return "flying"
     return "rest"
 
@@ -193,7 +146,7 @@ class _Contact:
 def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> BuiltTest:
     """The executable Scenario of one catalogue test, and its nominal impact (at first contact). LSC26 tests whose
     VUT starts from rest, creeps or stands parked are built by `ncap/build_low_speed.py`."""
-    if test.spec.layout in LOW_SPEED_LAYOUTS:
+    if test.spec.layout in LOW_SPEED_LAYOUTS and test.spec.turn is None:
         return build_low_speed(test, planner, v2x)
     spec = test.spec
     v = test.cell.vut_speed_kph * KPH
@@ -206,8 +159,12 @@ def build_test(test: NcapTest, planner: str = "fsm", v2x: bool = False) -> Built
     contact = _first_contact(test, _geometry(test, along, left, radius, centre_ahead), point, direction)
     impact = contact.impact
     start, target_time = _start_from_rest(test, impact, direction) if kind == "rest" else (impact, 0.0)
-    ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), contact)
-    impact_time = station / v
+    if contact.turn is not None and spec.layout == "standstill_start":  # LSC26 CMFtap SfS: stopped in the turn
+        ego, impact_time = stopped_in_turn_ego(test, contact.turn[0])
+        station = 0.0
+    else:
+        ego, station = _vut(test, v, max(LEAD_TIME_S, target_time + 0.5), contact)
+        impact_time = station / v
     vru: dict[str, Any] = {"type": test.dummy.vru_type.value, "radius_m": radius, "speed_time_constant_s": 0.0}
     v_target = test.target_speed_mps
     steady_from = 0.0
@@ -246,7 +203,7 @@ def _geometry(test: NcapTest, along: float, left: float, radius: float, centre_a
     return {
         "along_m": along,
         "left_m": left,
-        "rear_to_centre_m": _ego_geometry(test.spec.layout == "reverse")[1],
+        "rear_to_centre_m": vut_geometry(test.spec.layout == "reverse")[1],
         "half_length_m": VUT["length_m"] / 2,
         "half_width_m": VUT["width_m"] / 2,
         "centre_ahead_m": centre_ahead,
@@ -259,7 +216,7 @@ def _first_contact(test: NcapTest, geometry: dict, point: np.ndarray, direction:
     target's contact circle: on the VUT's nominal lateral line (front and rear impacts) or, for side impacts,
     where the circle first touches the VUT whose nominal side point is on the target path."""
     spec = test.spec
-    if spec.layout in ("turning", "oncoming"):
+    if spec.turn is not None:
         return _turn_probe(test, geometry, point, direction)
     travel = -1.0 if spec.layout == "reverse" else 1.0  # the left of a VUT travelling -x is -y
     along, left, to_centre = geometry["along_m"], geometry["left_m"], geometry["rear_to_centre_m"]
@@ -310,7 +267,7 @@ def _vut(test: NcapTest, v: float, lead_time_s: float, contact: _Contact) -> tup
     the collision point (V23)."""
     spec = test.spec
     reverse = spec.layout == "reverse"
-    rear_to_centre = _ego_geometry(reverse)[1]
+    rear_to_centre = vut_geometry(reverse)[1]
     if contact.turn is not None:
         station_from_turn, turn_start_x = contact.turn
         approach = max(v * lead_time_s - station_from_turn, 5.0)
@@ -330,9 +287,14 @@ def _vut(test: NcapTest, v: float, lead_time_s: float, contact: _Contact) -> tup
     return ego, station
 
 
+def turn_path_kph(test: NcapTest) -> float:
+    """The speed whose protocol path a turning VUT follows, km/h: its test speed, or the LSC26 SfS path."""
+    return SFS_TURN_PATH_KPH if test.spec.layout == "standstill_start" else test.cell.vut_speed_kph
+
+
 def _turn_route(test: NcapTest, approach_m: float, after_m: float) -> dict:
     """Route mapping of a turning test: `approach_m` straight, the protocol turn, `after_m` straight."""
-    return ncap_turn_route(test.spec.turn, test.cell.vut_speed_kph, approach_m, after_m).model_dump()
+    return ncap_turn_route(test.spec.turn, turn_path_kph(test), approach_m, after_m).model_dump()
 
 
 def _braking_lead(
@@ -366,7 +328,7 @@ def _scenario_mapping(
 ) -> dict:
     """The Scenario mapping around the VUT and the target: road, sensor, roadside unit, obstructions, timing."""
     spec = test.spec
-    junction = "junction" in spec.tags or spec.layout in ("turning", "oncoming")
+    junction = "junction" in spec.tags or spec.turn is not None
     mapping = {
         "name": test.test_id,
         "description": f"Euro NCAP {spec.code}: {spec.description}",
@@ -388,39 +350,16 @@ def _scenario_mapping(
     return mapping
 
 
-@lru_cache(maxsize=64)
-def _placed_turn_cached(side: str, speed_kph: float) -> tuple[np.ndarray, float]:
-    rear_to_centre = _ego_geometry(False)[1]
-    route = ncap_turn_route(side, speed_kph, 0.0, EXIT_LENGTH_M)
-    probe = {**VUT, "start": {"x_m": rear_to_centre, "y_m": 0.0, "heading_deg": 0.0}, "cruise_speed_mps": 1.0}
-    probe["route"] = route.model_dump()
-    samples = _route_samples(probe)
-    exit_x = samples[math.ceil(route.turn_length_m / SAMPLE_SPACING_M), 0]  # where the exit straight begins
-    turn_start_x = (LANE_WIDTH_M / 2 if side == "farside" else -LANE_WIDTH_M / 2) - exit_x
-    samples[:, 0] += turn_start_x
-    samples[:, 1] += LANE_Y_M
-    samples.setflags(write=False)
-    return samples, float(turn_start_x)
-
-
-def _placed_turn(side: str | None, speed_kph: float) -> tuple[np.ndarray, float]:
-    """The sampled rear-axle route of the protocol turn from its start (read-only, cached), placed so the rear
-    axle leaves it on the centre line of the right lane of the road turned into; and x of the turn start."""
-    if side is None:
-        raise ValueError("a turning test needs its turn side")
-    return _placed_turn_cached(side, float(speed_kph))
-
-
 def _turn_probe(test: NcapTest, geometry: dict, point: np.ndarray, direction: np.ndarray) -> _Contact:
     """Place the turn so the rear axle leaves it on the centre line of the right lane of the road turned into,
     and find the first contact on it (`ncap.first_contact`)."""
     rear_to_centre = geometry["rear_to_centre_m"]
-    samples, turn_start_x = _placed_turn(test.spec.turn, test.cell.vut_speed_kph)
+    samples, turn_start_x = placed_turn(test.spec.turn, turn_path_kph(test))
     along, left = geometry["along_m"], geometry["left_m"]
     if test.spec.impact_side == "front":
         station, impact, ahead = front_first_contact(samples, geometry, point, direction)
         return _Contact(impact, along + ahead - rear_to_centre, left, turn=(station, turn_start_x))
-    station, crossing = _crossing(samples, along, left, point, direction)
+    station, crossing = route_crossing(samples, along, left, point, direction)
     station, impact, local = side_first_contact_at(samples, station, geometry, crossing, direction)
     return _Contact(impact, float(local[0]), float(local[1]), turn=(station, turn_start_x))
 

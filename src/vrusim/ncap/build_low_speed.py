@@ -75,7 +75,7 @@ def start_off_probe_s(ego: dict, travel_m: float) -> float:
     longitudinal dynamics (driver request, actuator lag, jerk limit); the closed form `start_off_time_s`
     ignores the lag (about 0.09 s late)."""
     duration_s = math.ceil(start_off_time_s(travel_m) + 2.0)  # whole seconds: probes of similar tests are shared
-    return travel_probe_s({**ego, "driver": _start_off(0.0)}, travel_m, duration_s)
+    return travel_probe_s({**ego, "driver": start_off_driver(0.0)}, travel_m, duration_s)
 
 
 PROBE_ROUTE_M = 500.0
@@ -107,7 +107,7 @@ def _probe(dynamics_json: str, duration_s: float) -> tuple[np.ndarray, np.ndarra
     return trace["t_s"], trace["ego_station_m"][:, 0].copy()
 
 
-def _grid(t_s: float) -> float:
+def first_step_at_s(t_s: float) -> float:
     """The first step time at or after `t_s` (≥ 0), s."""
     return max(math.ceil(t_s / DT_S - 1e-9), 0) * DT_S
 
@@ -122,7 +122,7 @@ def build_low_speed(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
     if spec.layout != "standstill_start":
         raise ValueError(f"{test.test_id}: layout {spec.layout!r} is not a low-speed layout {LOW_SPEED_LAYOUTS}")
     if spec.turn is not None:
-        raise ValueError(f"{test.test_id}: standstill start in a turn (CMFtap SfS) is not built yet")
+        raise ValueError(f"{test.test_id}: a standstill start in a turn (CMFtap SfS) is built by ncap.build.build_test")
     if "reverse" in spec.tags:
         return _reversing_start(test, planner, v2x)
     return _crossing_start(test, planner, v2x)
@@ -139,7 +139,7 @@ def _ego(centre_x_m: float, cruise_mps: float, route_m: float, driver: dict | No
     return ego
 
 
-def _start_off(t0_s: float) -> dict:
+def start_off_driver(t0_s: float) -> dict:
     """Driver held at rest by the brake until `t0_s`, then the CA 102 stand-in."""
     return {"phases": [{"at_time_s": t0_s, "target_speed_mps": GO_SPEED_MPS, "accel_mps2": GO_ACCEL_MPS2}]}
 
@@ -175,8 +175,8 @@ def _crossing_start(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
         hit_y = LANE_Y_M + local_y
     ego = _ego(centre0, GO_SPEED_MPS, travel + ahead + length + 10.0, None)
     t_go = start_off_probe_s(ego, travel)
-    t0 = _grid(max(LEAD_S - t_go, 1.0))
-    ego["driver"] = _start_off(t0)
+    t0 = first_step_at_s(max(LEAD_S - t_go, 1.0))
+    ego["driver"] = start_off_driver(t0)
     t_contact = t0 + t_go
     direction = -1.0 if spec.side == "farside" else 1.0  # farside: from +y moving -y
     start_y = hit_y - direction * v_t * t_contact
@@ -212,10 +212,10 @@ def _reversing_start(test: NcapTest, planner: str, v2x: bool) -> BuiltTest:
     ego = _ego(centre0, GO_SPEED_MPS, travel + length + 10.0, None, reverse=True)
     t_go = start_off_probe_s(ego, travel)
     to_hit_m = CPMRCM_TARGET_START_M + local_y
-    t0 = _grid(to_hit_m / v_t - t_go)  # the child starts at least 10 m out (+ < v dt)
+    t0 = first_step_at_s(to_hit_m / v_t - t_go)  # the child starts at least 10 m out (+ < v dt)
     t_contact = t0 + t_go
     vru = _vru(test, 0.0, hit_y - v_t * t_contact, 90.0, v_t)
-    ego["driver"] = _start_off(t0)
+    ego["driver"] = start_off_driver(t0)
     scenario = _scenario(test, planner, v2x, ego, [vru], [], t_contact)
     # simulated (mirrored) frame: the leading edge is L/2 ahead, the body's left is the simulated right
     nominal = Nominal(0.0, hit_y, t_contact, length / 2, -local_y, 0.0, math.pi / 2, 0.0)

@@ -25,9 +25,7 @@ def select(codes: Sequence[str] | None = None, night: bool = False, protocol: st
     night if asked. `protocol` names the edition (ncap/editions; default: the default edition).
 
     A code selects every scenario whose code starts with it, ignoring case: in 2023, `CPNA-25` one scenario,
-    `CPTA` the four CPTA scenarios, `CMRs` both CMRs rows, `CB` every cyclist scenario. Scenarios vrusim cannot
-    build yet (a non-empty `requires`, shown by `vrusim list`) are left out; naming only such scenarios is a
-    UserInputError that says what is missing.
+    `CPTA` the four CPTA scenarios, `CMRs` both CMRs rows, `CB` every cyclist scenario.
     """
     book = edition(protocol)
     chosen: list[NcapScenario] = []
@@ -38,12 +36,8 @@ def select(codes: Sequence[str] | None = None, night: bool = False, protocol: st
             raise UserInputError(
                 f"--scenario: unknown {book.name} catalogue entry {code!r}; expected one of: {', '.join(book.codes)}"
             )
-        buildable = [m for m in matches if not m.requires]
-        if not buildable:
-            missing = "; ".join(f"{m.code} needs {', '.join(m.requires)}" for m in matches)
-            raise UserInputError(f"--scenario: {code!r} cannot be simulated yet ({missing})")
-        chosen.extend(m for m in buildable if m not in chosen)
-    specs = chosen or [s for s in book.scenarios if not s.requires]
+        chosen.extend(m for m in matches if m not in chosen)
+    specs = chosen or list(book.scenarios)
     lightings = ("day", "night") if night else ("day",)
     return [
         NcapTest(spec, cell, lighting, book.name)
@@ -52,11 +46,6 @@ def select(codes: Sequence[str] | None = None, night: bool = False, protocol: st
         if lighting in spec.lighting
         for cell in spec.cells
     ]
-
-
-def unbuilt(protocol: str | None = None) -> list[NcapScenario]:
-    """The edition's scenarios vrusim cannot build yet (their `requires` says why); `select` leaves them out."""
-    return [s for s in edition(protocol).scenarios if s.requires]
 
 
 @dataclass

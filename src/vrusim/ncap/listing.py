@@ -56,7 +56,6 @@ def catalogue_listing(protocol: str | None = None) -> list[dict]:
                 "tests": len(s.cells) * len(s.lighting),
                 "ranges": {r: sum(c.range == r for c in s.cells) * len(s.lighting) for r in _RANGES},
                 "official": s.official,
-                "requires": list(s.requires),
             }
         )
     return rows

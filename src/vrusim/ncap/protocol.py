@@ -199,7 +199,6 @@ class NcapScenario:
     unverified: tuple[str, ...] = ()
     sources: str = ""
     tags: tuple[str, ...] = field(default=())
-    requires: tuple[str, ...] = ()
     """Engine / builder features the scenario needs that vrusim does not have yet (2026 low-speed tests:
     a VUT starting from standstill, pedal misapplication, a door). Empty: `ncap/build.py` can build it."""
 

@@ -19,11 +19,32 @@ def turn_pieces(route: Route) -> tuple[Piece, ...]:
     return Clothoid(entry, arc_curvature, length), arc, Clothoid(arc_curvature, entry, length)
 
 
+def trimmed(pieces: tuple[Piece, ...], skip_m: float) -> tuple[Piece, ...]:
+    """`pieces` without their first `skip_m` metres (a clothoid cut part-way starts at its curvature there)."""
+    out: list[Piece] = []
+    for piece in pieces:
+        if skip_m >= piece.length_m:
+            skip_m -= piece.length_m
+            continue
+        if skip_m > 0:
+            kept = 1.0 - skip_m / piece.length_m
+            if isinstance(piece, Clothoid):
+                start = piece.start_curvature_per_m + piece.sharpness_per_m2 * skip_m
+                piece = Clothoid(start, piece.end_curvature_per_m, piece.length_m - skip_m)
+            elif isinstance(piece, Arc):
+                piece = Arc(piece.radius_m, piece.angle_rad * kept)
+            else:
+                piece = Line(piece.length_m - skip_m)
+            skip_m = 0.0
+        out.append(piece)
+    return tuple(out)
+
+
 def route_spec(route: Route, x0_m: float, y0_m: float, heading0_rad: float) -> PathSpec:
     """A route as a path from the start pose of the rear axle (m, m, rad)."""
     if route.kind == "straight":
         return PathSpec(x0_m, y0_m, heading0_rad, (Line(route.length_m),))
-    turn = turn_pieces(route)
+    turn = trimmed(turn_pieces(route), route.start_in_turn_m)
     exit_length = route.length_m - route.turn_at_m - sum(piece.length_m for piece in turn)
     pieces = tuple(p for p in (Line(route.turn_at_m), *turn, Line(exit_length)) if p.length_m > 0)
     return PathSpec(x0_m, y0_m, heading0_rad, pieces)

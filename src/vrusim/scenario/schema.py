@@ -58,7 +58,9 @@ class Route(StrictModel):
     straight: a line of `length_m`. left / right: a line of `turn_at_m`, the turn, then a line to the total
     `length_m`. The turn is a circular arc of `radius_m` turning by `angle_deg`; with `clothoid_angle_deg`
     > 0 it is the Euro NCAP turning path instead: a clothoid (curvature 1/`clothoid_entry_radius_m` to
-    1/`radius_m`) turning by `clothoid_angle_deg`, the arc, and the mirror-image clothoid back.
+    1/`radius_m`) turning by `clothoid_angle_deg`, the arc, and the mirror-image clothoid back. With
+    `start_in_turn_m` > 0 the route begins that far into the turn (no approach line): the ego starts part-way
+    through it, facing the turn's tangent there (a VUT stopped in a junction, Euro NCAP LSC26 CMFtap SfS).
     """
 
     kind: Literal["straight", "left", "right"] = "straight"
@@ -68,6 +70,7 @@ class Route(StrictModel):
     clothoid_angle_deg: float = Field(0.0, ge=0, lt=90, description="turning angle of each clothoid; 0: none")
     clothoid_entry_radius_m: float = Field(1500.0, gt=0, description="radius where each clothoid meets a line")
     length_m: float = Field(150.0, gt=0, description="route (trip) length, m; travel time is measured over it")
+    start_in_turn_m: float = Field(0.0, ge=0, description="the route begins this far into the turn, m; 0: at its start")
 
     @property
     def clothoid_length_m(self) -> float:
@@ -76,16 +79,28 @@ class Route(StrictModel):
         return 2 * alpha / (1 / self.clothoid_entry_radius_m + 1 / self.radius_m)
 
     @property
-    def turn_length_m(self) -> float:
-        """Length of the turn (clothoids and arc), m; 0 for a straight route."""
+    def full_turn_length_m(self) -> float:
+        """Length of the whole turn (clothoids and arc), m; 0 for a straight route."""
         if self.kind == "straight":
             return 0.0
         return self.radius_m * math.radians(self.angle_deg) + 2 * self.clothoid_length_m
 
+    @property
+    def turn_length_m(self) -> float:
+        """Length of the turn on this route (the whole turn less `start_in_turn_m`), m; 0 for a straight route."""
+        return max(self.full_turn_length_m - self.start_in_turn_m, 0.0)
+
     @model_validator(mode="after")
     def _turn_fits(self) -> Self:
         if self.kind == "straight":
+            if self.start_in_turn_m > 0:
+                raise ValueError("start_in_turn_m needs a turn (route.kind left or right)")
             return self
+        if self.start_in_turn_m > 0:
+            if self.turn_at_m > 0:
+                raise ValueError("start_in_turn_m: a route that begins inside its turn has no approach (turn_at_m 0)")
+            if self.start_in_turn_m >= self.full_turn_length_m:
+                raise ValueError(f"start_in_turn_m must be shorter than the turn ({self.full_turn_length_m:.2f} m)")
         if self.clothoid_angle_deg > 0:
             if self.clothoid_entry_radius_m <= self.radius_m:
                 raise ValueError("clothoid_entry_radius_m must be larger than radius_m (the arc radius)")

@@ -1,16 +1,14 @@
 """LSC26 §3, the VRU scenarios of *Crash Avoidance – Low Speed Collisions* v1.1 (2026).
 
 Every cell is in the standard range (the calculator has no extended range in LSC). A VUT starting from
-standstill gets `vut_speed_kph` 0 ("SfS"). `ncap/build_low_speed.py` builds the layouts standstill_start (not in
-a turn), pedal_misapplication and dooring; the scenarios' `requires` names what is still missing.
+standstill gets `vut_speed_kph` 0 ("SfS"). `ncap/build_low_speed.py` builds the layouts standstill_start,
+pedal_misapplication and dooring; `ncap/build_turn_start.py` the standstill start inside a turn (CMFtap SfS).
 """
 
 from __future__ import annotations
 
 from vrusim.ncap.editions.target_geometry import TARGET_GEOMETRY
 from vrusim.ncap.protocol import Cell, NcapScenario
-
-SFS_START = "VUT starting from standstill (brake held until T0, then TB CA 102 accelerator profile)"
 
 CBNAO_SFS_OBSTRUCTION = {"vut_beside_m": 1.0, "obstruction_to_ebt_ref_m": 2.50}
 """LSC26 §3.2.1.1: 'initially positioned 1m beside the full obstruction'; 'The distance between the
@@ -31,6 +29,12 @@ creeping speed)."""
 CBDA_DOOR_OPERATION_M = {10.0: (5.5, 0.4), 15.0: (8.0, 0.5), 20.0: (11.0, 0.7)}
 """LSC26 §3.2.3: door operation distance (nominal, + tolerance) by EBT speed km/h, bicyclist front reference
 point to the most rearward point of the driver's door."""
+SFS_TURN_PATH_KPH = 10.0
+"""LSC26 §1.2.1: CCFtap SfS and CMFtap SfS follow 'the 10km/h to Farside case from the Frontal Collisions
+protocol'."""
+CENTRAL_MARKING_WIDTH_M = 0.10
+"""LSC26 §3.1.4: the VUT stops with its front farside corner on the inner side of the (virtual) central lane
+marking (± 0.10 m); §2.2 allows a dashed marking 0.10-0.15 m wide: the narrowest (UNVERIFIED)."""
 CBDA_PATH_CLEARANCE_M = 1.0
 """LSC26 §3.2.3: VUT and obstruction car 'aligned one meter from the path of the VRU'."""
 
@@ -154,7 +158,6 @@ LOW_SPEED: tuple[NcapScenario, ...] = (
         official="CMFtap SfS",
         unverified=("impact location 50 % (LSC26: 50 ± 25 %)",),
         sources="LSC26 §3.1.4 (EMT 30/45/60/80 km/h, 10 km/h farside path, stop at the central marking)",
-        requires=(SFS_START + " after stopping in the turn (front farside corner at the central marking)",),
     ),
 )
 """LSC26 VRU scenarios (pedestrian & cyclist, and the motorcyclist parts of Car & PTW)."""
