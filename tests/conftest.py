@@ -20,6 +20,10 @@ settings.register_profile("ci", derandomize=True)
 settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
+# The suite's own test planners are named `module:Class` (tests.warning_planner:WarnOnDetection, ...): the suite
+# allows module planners as a user would (vrusim --allow-module-planners); tests of the refusal unset it.
+os.environ["VRUSIM_ALLOW_MODULE_PLANNERS"] = "1"
+
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PAPER_DIR = REPO_ROOT / "scenarios" / "paper"
 PAPER_FILES = sorted(PAPER_DIR.glob("*.yaml"))

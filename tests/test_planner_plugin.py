@@ -4,17 +4,29 @@ plus the registry's entry-point look-up and its errors (a fake distribution, not
 from __future__ import annotations
 
 import importlib.metadata
+import json
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
+import yaml
 
+from cli_helpers import assert_user_error, invoke
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.paper.cases import scenario_dir
 from vrusim.planners.fsm import FsmPlanner
-from vrusim.planners.registry import ENTRY_POINT_GROUP, make_planner
+from vrusim.planners.registry import (
+    ENTRY_POINT_GROUP,
+    MODULE_PLANNERS_ENV,
+    MODULE_PLANNERS_FLAG,
+    allow_module_planners,
+    make_planner,
+)
 from vrusim.scenario.loading import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -146,3 +158,94 @@ def test_plugin_source_names_the_module_file_and_its_hash(monkeypatch, example_o
     assert plugin_source("brake-on-detection") == {"planner": "brake-on-detection", "distribution": None, **expected}
     with pytest.raises(UserInputError, match=r"planner\.name: unknown planner 'nope'"):
         plugin_source("nope")
+
+
+# ------------------------------------------------------------------------------------------------------------
+# A scenario file names a module: nothing is imported unless the user allows it outside the file
+# ------------------------------------------------------------------------------------------------------------
+MARKER_MODULE = """
+from pathlib import Path
+
+Path(__file__).with_name("imported.marker").write_text("module code ran")
+
+from vrusim.planners.base import HoldSpeedPlanner
+
+
+class Hold(HoldSpeedPlanner):
+    pass
+"""
+
+
+@pytest.fixture
+def marker_scenario(tmp_path):
+    """A module that writes `imported.marker` next to itself when imported, and a scenario naming it."""
+    (tmp_path / "marker_planner.py").write_text(MARKER_MODULE)
+    data = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").model_dump(mode="json")
+    data["planner"] = {"name": "marker_planner:Hold", "params": {}}
+    data["sim"]["duration_s"] = 2.0
+    path = tmp_path / "scenario.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path, tmp_path / "imported.marker"
+
+
+def _python_m(*args, cwd: Path, pythonpath: str | None = None, allow_env: bool = False):
+    env = {k: v for k, v in os.environ.items() if k not in (MODULE_PLANNERS_ENV, "PYTHONPATH")}
+    if pythonpath is not None:
+        env["PYTHONPATH"] = pythonpath
+    if allow_env:
+        env[MODULE_PLANNERS_ENV] = "1"
+    return subprocess.run(
+        [sys.executable, "-m", "vrusim", *map(str, args)], cwd=cwd, env=env, capture_output=True, text=True
+    )
+
+
+@pytest.mark.parametrize(
+    "args",
+    [("run", "{s}"), ("run", "{s}", "--planner", "marker_planner:Hold"), ("ncap", "--scenario", "CPNA",
+     "--planner", "marker_planner:Hold")],
+)  # fmt: skip
+def test_a_module_planner_is_refused_before_import_without_the_opt_in(marker_scenario, monkeypatch, args):
+    scenario, marker = marker_scenario
+    monkeypatch.delenv(MODULE_PLANNERS_ENV)
+    monkeypatch.syspath_prepend(str(scenario.parent))  # importable, so only the missing opt-in stops it
+    result = invoke(*[a.replace("{s}", str(scenario)) for a in args])
+    assert_user_error(result, "planner", "marker_planner:Hold", MODULE_PLANNERS_FLAG, MODULE_PLANNERS_ENV)
+    assert not marker.exists() and "marker_planner" not in sys.modules
+
+
+def test_a_sweep_dry_run_imports_nothing_without_the_opt_in(marker_scenario, monkeypatch, tmp_path):
+    scenario, marker = marker_scenario
+    monkeypatch.delenv(MODULE_PLANNERS_ENV)
+    monkeypatch.syspath_prepend(str(scenario.parent))
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text(yaml.safe_dump({"base": str(scenario), "parameters": {"ego.cruise_speed_mps": [10.0, 12.0]}}))
+    result = invoke("sweep", spec, "--dry-run", "--out", tmp_path / "out")
+    assert_user_error(result, "marker_planner:Hold", MODULE_PLANNERS_FLAG)
+    assert not marker.exists() and not (tmp_path / "out").exists()
+
+
+def test_python_m_never_imports_from_the_current_folder(marker_scenario):
+    """`python -m vrusim` run next to the module: refused without the opt-in, and with it the module is still not
+    found (the current folder is not searched); only an explicit PYTHONPATH plus the opt-in runs it."""
+    scenario, marker = marker_scenario
+    folder = scenario.parent
+    refused = _python_m("run", scenario.name, cwd=folder)
+    assert refused.returncode == 2 and MODULE_PLANNERS_FLAG in refused.stderr and "Traceback" not in refused.stderr
+    assert not marker.exists()
+    not_found = _python_m(MODULE_PLANNERS_FLAG, "run", scenario.name, cwd=folder)
+    assert not_found.returncode == 2 and "cannot import 'marker_planner:Hold'" in not_found.stderr
+    assert not marker.exists()
+    ran = _python_m("run", scenario.name, "--json", cwd=folder, pythonpath=str(folder), allow_env=True)
+    assert ran.returncode == 0, ran.stderr
+    assert marker.exists() and json.loads(ran.stdout)["planner"] == "marker_planner:Hold"
+
+
+def test_the_python_switch_allows_and_forbids_module_planners(monkeypatch):
+    monkeypatch.delenv(MODULE_PLANNERS_ENV)
+    with pytest.raises(UserInputError, match=MODULE_PLANNERS_FLAG):
+        make_planner("tests.warning_planner:WarnOnDetection")
+    allow_module_planners()
+    assert make_planner("tests.warning_planner:WarnOnDetection") is not None
+    allow_module_planners(False)
+    with pytest.raises(UserInputError, match=MODULE_PLANNERS_ENV):
+        make_planner("tests.warning_planner:WarnOnDetection")

@@ -111,9 +111,15 @@ def sweep_spec_path(source: str | Path, argument: str = "SPEC") -> Path:
 def is_scenario_file(source: str) -> bool:
     """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
     path = Path(source)
-    if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
-        return False
-    if path.is_dir():
+    try:
+        if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
+            return False
+        folder = path.is_dir()
+    except (OSError, ValueError) as error:  # a name too long for the OS, a null byte, ...
+        shown = source if len(source) <= 80 else source[:77] + "..."
+        reason = getattr(error, "strerror", None) or str(error)
+        raise UserInputError(f"SOURCE: cannot use {shown!r} as a file name ({reason})") from None
+    if folder:
         raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")
     return True
 

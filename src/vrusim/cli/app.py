@@ -28,6 +28,7 @@ from vrusim.cli.run import run_command
 from vrusim.cli.summarize import summarize_command
 from vrusim.cli.sweep import sweep_command
 from vrusim.errors import UserInputError
+from vrusim.planners.registry import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
 from vrusim.version import __version__
 
 COMMANDS: dict[str, Callable[..., None]] = {
@@ -66,8 +67,18 @@ def _root(
         bool,
         typer.Option("--version", help="Print the version and exit.", callback=_version_callback, is_eager=True),
     ] = False,
+    allow_modules: Annotated[
+        bool,
+        typer.Option(
+            MODULE_PLANNERS_FLAG,
+            help=f"Let planner names of the form module:Class import their Python module (as {MODULE_PLANNERS_ENV}=1"
+            "). A scenario file is data: without this, vrusim imports no code it names.",
+        ),
+    ] = False,
 ) -> None:
     """Closed-loop simulation of Euro NCAP vulnerable-road-user tests with perception, V2X and planners."""
+    if allow_modules:
+        allow_module_planners()
 
 
 for _name, _command in COMMANDS.items():

@@ -22,6 +22,8 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from vrusim.planners.params import validate_params
+from vrusim.scenario.strict import StrictModel
 from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
@@ -92,6 +94,10 @@ def planner_door_hold(planner: object) -> np.ndarray | None:
     return _declared(planner, "door_hold")
 
 
+class NoParams(StrictModel):
+    """`planner.params` of a planner without parameters: every field is unknown."""
+
+
 class HoldSpeedPlanner(PlannerBase):
     """The `none` planner: no function acts. The ego follows its driver's request (`ego.driver`); without a
     driver it commands zero acceleration and holds its start speed (protocol checks)."""
@@ -99,7 +105,8 @@ class HoldSpeedPlanner(PlannerBase):
     mode_names = ("hold",)
 
     def reset(self, params: BatchParams) -> None:
-        """Allocate the mode array."""
+        """Refuse any `planner.params` (it has none) and allocate the mode array."""
+        validate_params(NoParams, params)
         self.mode = np.zeros(params.size, dtype=np.int8)
 
     def compact(self, index: np.ndarray) -> None:

@@ -7,6 +7,11 @@ declare, e.g. in their pyproject.toml:
 
     [project.entry-points."vrusim.planners"]
     brake-on-detection = "mypkg.brake_on_detection:BrakeOnDetection"
+
+Entry points are trusted: the user installed them. A `module:Class` name comes from a scenario file, which is
+data people exchange, so it is imported only when the user allows it outside that file: `vrusim
+--allow-module-planners ...`, the environment variable VRUSIM_ALLOW_MODULE_PLANNERS=1, or
+`allow_module_planners()` in Python. Without it the name is refused before anything is imported.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import importlib
 import importlib.metadata
+import os
 from collections.abc import Callable
 from pathlib import Path
 
@@ -36,6 +42,33 @@ BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {
     "dow": DowPlanner,
 }
 ENTRY_POINT_GROUP = "vrusim.planners"
+MODULE_PLANNERS_ENV = "VRUSIM_ALLOW_MODULE_PLANNERS"
+"""Set to 1 (or true / yes) to let `planner.name: module:Class` import its module."""
+MODULE_PLANNERS_FLAG = "--allow-module-planners"
+"""The `vrusim` option that sets MODULE_PLANNERS_ENV for the command (and the workers it starts)."""
+
+
+def module_planners_allowed() -> bool:
+    """Whether `module:Class` planner names may be imported (MODULE_PLANNERS_ENV is 1, true or yes)."""
+    return os.environ.get(MODULE_PLANNERS_ENV, "").strip().lower() in ("1", "true", "yes")
+
+
+def allow_module_planners(allowed: bool = True) -> None:
+    """Allow (or forbid again) `module:Class` planner names in this process and the worker processes it starts."""
+    if allowed:
+        os.environ[MODULE_PLANNERS_ENV] = "1"
+    else:
+        os.environ.pop(MODULE_PLANNERS_ENV, None)
+
+
+def _check_module_allowed(name: str) -> None:
+    """Refuse a `module:Class` name, before importing anything, unless the user allowed module planners."""
+    if not module_planners_allowed():
+        raise UserInputError(
+            f"planner.name: {name!r} names Python code, which vrusim imports only when you allow it outside the "
+            f"scenario file: pass {MODULE_PLANNERS_FLAG} (vrusim {MODULE_PLANNERS_FLAG} run ...) or set "
+            f"{MODULE_PLANNERS_ENV}=1; installed planners (entry points) need neither"
+        )
 
 
 def registered_planners() -> dict[str, importlib.metadata.EntryPoint]:
@@ -56,6 +89,7 @@ def make_planner(name: str) -> Planner:
     if name in BUILTIN_PLANNERS:
         return BUILTIN_PLANNERS[name]()
     if ":" in name:
+        _check_module_allowed(name)
         return _instantiate(_import_class(name), repr(name))
     registered = registered_planners()
     if name in registered:
@@ -103,7 +137,9 @@ def plugin_source(name: str) -> dict[str, str | None] | None:
         return None
     info: dict[str, str | None] = {"planner": name}
     target = name
-    if ":" not in name:
+    if ":" in name:
+        _check_module_allowed(name)
+    else:
         entry = registered_planners().get(name)
         if entry is None:
             make_planner(name)  # raises the unknown-planner error

@@ -59,12 +59,19 @@ def field_path(location: tuple[int | str, ...]) -> str:
     return render_path(location) or "(top level)"
 
 
+MAX_LISTED_ERRORS = 8
+"""At most this many offending fields are listed in one message (the rest are counted)."""
+
+
 def describe_validation_error(error: ValidationError, source: str) -> str:
-    """One readable message listing every offending field and what was expected."""
+    """One readable message listing the offending fields (at most MAX_LISTED_ERRORS) and what was expected."""
     lines = [f"{source}: invalid scenario"]
-    for item in error.errors(include_url=False):
+    items = error.errors(include_url=False)
+    for item in items[:MAX_LISTED_ERRORS]:
         location = tuple(p for p in item["loc"] if p not in ("function-after[_from_pair(), Point]",))
         lines.append(f"  {field_path(location)}: {error_message(item)}")
+    if len(items) > MAX_LISTED_ERRORS:
+        lines.append(f"  ... and {len(items) - MAX_LISTED_ERRORS} more")
     return "\n".join(lines)
 
 

@@ -19,6 +19,11 @@ def scenario_from_mapping(data: Any, source: str = "scenario") -> Scenario:
     """Validate a mapping (parsed YAML) into a Scenario, raising UserInputError on bad input."""
     if not isinstance(data, dict):
         raise UserInputError(f"{source}: expected a mapping of scenario fields at the top level")
+    sections = Scenario.model_fields
+    if data and not any(isinstance(key, str) and key in sections for key in data):
+        raise UserInputError(
+            f"{source}: not a scenario file (its top level names none of the sections {', '.join(sections)})"
+        )
     try:
         return Scenario.model_validate(data)
     except ValidationError as error:
