@@ -6,10 +6,11 @@ acceleration in that frame (a VRU setting off is predicted to keep speeding up; 
 the VRU occupies the ego's corridor (|e| <= ego half width + VRU radius + margin) during a time window
 [t_in, t_out]. A VRU *conflicts* with the ego path when it is tracked, not yet clear of the ego's swept
 footprint (its far edge is still ahead of the ego's rear bumper along the route: a VRU beside the flank still
-counts), and its corridor window overlaps [0, horizon]. The distance to a VRU beside the ego is 0. The distance to it is measured along the route from the front
-bumper to the VRU's near edge, at its current position or at its predicted corridor entry, whichever is
-nearer (the entry point matters on curved routes). A conflicting VRU in the corridor that moves along the
-route faster than `LEAD_SPEED_MPS` (and more along than across) is a *lead* to follow rather than a crossing.
+counts), and its corridor window overlaps [0, horizon]. The distance to it is measured along the route from
+the front bumper to the VRU's near edge, at its current position or at its predicted corridor entry, whichever
+is nearer (the entry point matters on curved routes), and is 0 for a VRU beside the ego. A conflicting VRU in
+the corridor that moves along the route faster than `LEAD_SPEED_MPS` (and more along than across) is a *lead*
+to follow rather than a crossing.
 
 Track memory: a VRU that drops out of detection (for instance out of the sensor sector beside the bumper) is
 still considered for `memory_s` seconds at its last detected position, predicted forward at its last detected
