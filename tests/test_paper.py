@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from vrusim.metrics.outcome import OUTCOMES
 from vrusim.paper.cases import CAPTION_EVENTS, SCORE_TOLERANCE, TABLE_II, TIME_TOLERANCE_S, reproduce
 
 
@@ -79,7 +80,8 @@ def test_escooter_is_followed_stably(v2x):
     params = FsmParams.model_validate(data["planner"]["params"])
     lead_speed = 13.4
     equilibrium_gap = params.follow_standstill_gap_m + params.follow_headway_s * lead_speed
-    assert row["outcome"] == "avoided"
+    # still following at 13.4 m/s when the 60 s run ends, 900 m route not completed: `incomplete` (issue 17)
+    assert row["outcome"] == "incomplete"
     assert row["transitions"][-1]["to"] == "follow"
     assert abs(row["final_speed_mps"] - lead_speed) < 0.05
     assert row["min_clearance_m"] > 0.8 * equilibrium_gap
@@ -110,6 +112,6 @@ def test_every_shipped_scenario_runs_cleanly(path, v2x):
     from vrusim.scenario.loading import load_scenario
 
     row = summary_rows(simulate([load_scenario(path).with_v2x(v2x)]))[0]
-    assert row["outcome"] in ("collision", "avoided")
+    assert row["outcome"] in OUTCOMES
     assert all(0.0 <= row[name] <= 1.0 for name in ("safety", "efficiency", "comfort"))
     assert row["end_time_s"] > 0.0
