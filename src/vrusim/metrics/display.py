@@ -53,8 +53,14 @@ def _escape(text: str) -> str:
     return escape(text)
 
 
+_OUTCOME_STYLE = {"collision": "[bold red]COLLISION[/]", "avoided": "[bold green]avoided[/]",
+                  "stalled": "[bold yellow]stalled[/] (stood still short of the route end)",
+                  "incomplete": "[yellow]incomplete[/] (time limit reached while moving)"}  # fmt: skip
+
+
 def _outcome(row: dict[str, Any]) -> str:
-    return "[bold red]COLLISION[/]" if row["collided"] else "[bold green]avoided[/]"
+    outcome = row.get("outcome") or ("collision" if row["collided"] else "avoided")
+    return _OUTCOME_STYLE.get(outcome, _escape(str(outcome)))
 
 
 def _relative_speed(row: dict[str, Any]) -> str:
@@ -85,6 +91,8 @@ def _travel(row: dict[str, Any]) -> str:
     free = _value(row, "free_travel_time_s")
     if row["travel_time_s"] is not None:
         return f"{_value(row, 'travel_time_s')} (free flow {free})"
+    if row.get("outcome") == "stalled":
+        return f"route not completed: stalled, never finishes (efficiency 0; free flow {free})"
     return f"route not completed (trip time counted as {_value(row, 'trip_time_s')}, free flow {free})"
 
 
