@@ -232,14 +232,16 @@ def test_paper_tables(paper_json, monkeypatch):
     assert "Table II" in out
     assert "Event times" in out
     assert "Pedestrian crossing" in out and "Motorcyclist crossing" in out
-    assert "Matches:" in out and "/6 outcomes" in out and "/7 events" in out and "/18 scores" in out
+    assert "Matches:" in out and "/6 outcomes" in out and "/7 events" in out
+    assert "/6 follow from a collision" in out and "/4 calibrated" in out and "/8 checked out of sample" in out
 
 
 def test_match_counts(paper_json):
     from vrusim.paper.cases import match_counts
 
     counts = match_counts(paper_json)
-    assert counts["outcomes"][1] == 6 and counts["events"][1] == 7 and counts["scores"][1] == 18
+    assert counts["outcomes"][1] == 6 and counts["events"][1] == 7
+    assert (counts["collision"][1], counts["calibrated"][1], counts["out_of_sample"][1]) == (6, 4, 8)
     assert counts["outcomes"][0] == sum(c["outcome_matches"] for c in paper_json["cases"])
 
 

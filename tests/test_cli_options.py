@@ -20,7 +20,14 @@ from vrusim.cli.app import COMMANDS, app
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PEDESTRIAN = REPO_ROOT / "scenarios" / "paper" / "pedestrian_crossing.yaml"
 MONTE_CARLO = "example:pedestrian-monte-carlo"
-BUNDLED = ["paper:pedestrian", "paper:escooter", "paper:motorcyclist", "example:right-turn-cyclist", MONTE_CARLO]
+BUNDLED = [
+    "paper:pedestrian",
+    "paper:escooter",
+    "paper:motorcyclist",
+    "example:escooter-stationary",
+    "example:right-turn-cyclist",
+    MONTE_CARLO,
+]
 
 
 def _invoke_at(columns: int, *args):

@@ -73,6 +73,7 @@ SUMMARY_KEYS = [
     "peak_lateral_accel_mps2",
     "rms_accel_mps2",
     "rms_jerk_mps3",
+    "moving_time_s",
     "travel_time_s",
     "trip_time_s",
     "free_travel_time_s",

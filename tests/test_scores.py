@@ -15,7 +15,7 @@ from vrusim.metrics.scores import PROFILES, profile, scores
 PAPER = PROFILES["paper"]
 
 
-def _score(collided=False, ttc=np.inf, travel=10.0, free=10.0, rms_a=0.0, rms_j=0.0, prof=PAPER):
+def _score(collided=False, ttc=np.inf, travel=10.0, free=10.0, rms_a=0.0, rms_j=0.0, prof=PAPER, clearance=np.inf):
     out = scores(
         np.array([collided]),
         np.array([ttc]),
@@ -24,6 +24,7 @@ def _score(collided=False, ttc=np.inf, travel=10.0, free=10.0, rms_a=0.0, rms_j=
         np.array([rms_a]),
         np.array([rms_j]),
         prof,
+        min_clearance_m=np.array([clearance]),
     )
     return {name: float(value[0]) for name, value in out.items()}
 

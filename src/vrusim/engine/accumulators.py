@@ -44,6 +44,7 @@ ACCUMULATORS = (
     Accumulator("sum_accel_sq", "sum", "a_k^2 dt (m^2/s^3)"),
     Accumulator("sum_jerk_sq", "sum", "j_k^2 dt (m^2/s^5)"),
     Accumulator("elapsed_s", "sum", "dt: the active time"),
+    Accumulator("moving_s", "sum", "dt of the steps in which the ego moved (speed > 0 at the start or end)"),
     Accumulator("min_clearance_m", "min", "smallest clearance over the VRUs"),
     Accumulator("min_clearance_time_s", "at", "time of min_clearance_m"),
     Accumulator("min_ttc_s", "min", "smallest 2-D TTC over the VRUs"),
@@ -84,6 +85,7 @@ PEAK_LAT = _I["peak_lateral_accel_mps2"]
 SUM_A2 = _I["sum_accel_sq"]
 SUM_J2 = _I["sum_jerk_sq"]
 ELAPSED = _I["elapsed_s"]
+MOVING = _I["moving_s"]
 MIN_CLR = _I["min_clearance_m"]
 MIN_CLR_T = _I["min_clearance_time_s"]
 MIN_TTC = _I["min_ttc_s"]
@@ -288,6 +290,8 @@ def _record_step(
         m[SUM_A2, b] += a * a * dt
         m[SUM_J2, b] += jerk * jerk * dt
         m[ELAPSED, b] += dt
+        if moving_before[b] or speed[b] > 0.0:
+            m[MOVING, b] += dt
         closest, nearest, soonest, soonest_k = np.inf, 0, np.inf, 0
         for k in range(K):
             if clearance[b, k] < closest:

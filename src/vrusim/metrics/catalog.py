@@ -31,6 +31,7 @@ from vrusim.geometry.contact import (
     impact_side,
     lateral_impact_fraction,
 )
+from vrusim.metrics.outcome import outcomes
 from vrusim.metrics.scores import profile, scores
 
 if TYPE_CHECKING:
@@ -63,7 +64,7 @@ METRIC_REDUCTIONS = {
     **{name: text for name, text in REDUCTIONS.items() if name != "carry"},
     "any": "true once it happened in an active step",
     "count": "number of events over the active steps",
-    "rms": "root mean square over the active time: sqrt(sum of value^2 dt / active time)",
+    "rms": "root mean square over the moving time: sqrt(sum of value^2 dt / moving time)",
     "derived": "computed after the run from other metrics and the scenario's parameters",
 }
 """How a metric is reduced over a run: the accumulators' reductions (`engine.accumulators.REDUCTIONS`) and these."""
@@ -267,7 +268,8 @@ def _collided(view: BatchView) -> np.ndarray:
 
 
 def _outcome(view: BatchView) -> np.ndarray:
-    return np.where(view["collided"], "collision", "avoided").astype(object)
+    m, p = view.accumulators, view.params
+    return outcomes(view["collided"], ~np.isnan(m.travel_time_s), p.cruise_speed_mps, m.final_speed_mps)
 
 
 def _impact_side(view: BatchView) -> np.ndarray:
@@ -338,9 +340,10 @@ def _transitions_json(view: BatchView, columns: dict[str, np.ndarray]) -> list[l
 
 
 def _rms(sum_row: str) -> Compute:
+    # over the moving time, not the active time: standing still must not dilute the RMS (docs/metrics.md)
     def compute(view: BatchView) -> np.ndarray:
-        elapsed = np.maximum(view.accumulators.elapsed_s, view.params.dt_s)
-        return np.sqrt(getattr(view.accumulators, sum_row) / elapsed)
+        moving = np.maximum(view.accumulators.moving_s, view.params.dt_s)
+        return np.sqrt(getattr(view.accumulators, sum_row) / moving)
 
     return compute
 
@@ -359,6 +362,7 @@ def _trip_time(view: BatchView) -> np.ndarray:
         p.cruise_speed_mps > 0, (p.route_length_m - station) / np.maximum(p.cruise_speed_mps, 1e-9), 0.0
     )
     travel = np.where(np.isnan(m.travel_time_s), m.end_time_s + remaining, m.travel_time_s)
+    travel = np.where(view["outcome"] == "stalled", np.inf, travel)  # a stalled ego never finishes: no trip time
     return np.where(p.cruise_speed_mps > 0, travel, 0.0)  # an ego told to stand still loses no time
 
 
@@ -373,9 +377,11 @@ def _scores(view: BatchView) -> dict[str, np.ndarray]:
         per_profile.setdefault(name, []).append(b)
     out = {name: np.zeros(view.size) for name in ("safety", "efficiency", "comfort")}
     inputs = ("collided", "min_ttc_s", "trip_time_s", "free_travel_time_s", "rms_accel_mps2", "rms_jerk_mps3")
+    stalled, clearance = view["outcome"] == "stalled", view["min_clearance_m"]
     for name, members in per_profile.items():
         idx = np.array(members)
-        result = scores(*(view[i][idx] for i in inputs), profile(name))
+        extra = {"min_clearance_m": clearance[idx], "stalled": stalled[idx]}
+        result = scores(*(view[i][idx] for i in inputs), profile(name), **extra)
         for score, values in out.items():
             values[idx] = result[score]
     return out
@@ -394,10 +400,11 @@ DYNAMICS = "docs/metrics.md#longitudinal-and-lateral-dynamics"
 TRAVEL = "docs/metrics.md#travel-time-and-trip-time"
 EVENTS = "docs/metrics.md#events"
 SCORES = "docs/metrics.md#scores-metricsscorespy"
+OUTCOME = "docs/metrics.md#outcome"
 
 _BUILTIN_METRICS = (
-    Metric("outcome", "", "Outcome", '"collision" or "avoided"', _outcome, dtype="string", group="outcome",
-           source=CONTACT),
+    Metric("outcome", "", "Outcome", '"collision", "avoided", "stalled" or "incomplete"', _outcome, dtype="string",
+           group="outcome", source=OUTCOME),
     Metric("collided", "", "Collided", "the bodies touched in an active step", _collided, reduce="any",
            dtype="bool", group="outcome", source=CONTACT),
     from_accumulator("contact_time_s", "s", "Contact time", "t + f dt, f where the bodies met inside the step",
@@ -447,10 +454,12 @@ _BUILTIN_METRICS = (
     from_accumulator("peak_jerk_mps3", "m/s³", "Peak jerk", "max |j_k|", source=DYNAMICS),
     from_accumulator("peak_lateral_accel_mps2", "m/s²", "Peak lateral acceleration", "max v_k² |κ_k|",
                      source=DYNAMICS),
-    Metric("rms_accel_mps2", "m/s²", "RMS acceleration", "sqrt(Σ a_k² dt / T_active)", _rms("sum_accel_sq"),
+    Metric("rms_accel_mps2", "m/s²", "RMS acceleration", "sqrt(Σ a_k² dt / T_moving)", _rms("sum_accel_sq"),
            reduce="rms", short="RMS accel", source=DYNAMICS),
-    Metric("rms_jerk_mps3", "m/s³", "RMS jerk", "sqrt(Σ j_k² dt / T_active)", _rms("sum_jerk_sq"), reduce="rms",
+    Metric("rms_jerk_mps3", "m/s³", "RMS jerk", "sqrt(Σ j_k² dt / T_moving)", _rms("sum_jerk_sq"), reduce="rms",
            source=DYNAMICS),
+    from_accumulator("moving_time_s", "s", "Moving time", "Σ dt over the active steps in which the ego moved",
+                     row="moving_s", source=DYNAMICS),
     from_accumulator("travel_time_s", "s", "Travel time", "the route completed, interpolated in the step",
                      source=TRAVEL),
     Metric("trip_time_s", "s", "Trip time (scored)", "travel time, or the rest of the route at cruise speed",
@@ -459,9 +468,10 @@ _BUILTIN_METRICS = (
            source=TRAVEL),
     from_accumulator("end_time_s", "s", "End time", "time of the last active step's end", source=TRAVEL),
     from_accumulator("final_speed_mps", "m/s", "Final speed", "ego speed at end_time_s", source=TRAVEL),
-    Metric("safety", "", "Safety score", "min(1, max(TTC_min, 0) / ttc_threshold_s); 0 on collision",
+    Metric("safety", "", "Safety score",
+           "min(1, TTC_min / ttc_threshold_s, clearance_min / clearance_threshold_m); 0 on collision",
            _score("safety"), group="score", digits=4, source=SCORES),
-    Metric("efficiency", "", "Efficiency score", "1 / (1 + (loss / loss_scale)^loss_exponent); 0 on collision",
+    Metric("efficiency", "", "Efficiency score", "1 / (1 + (loss / loss_scale)^loss_exponent); 0 on collision or stall",
            _score("efficiency"), group="score", digits=4, source=SCORES),
     Metric("comfort", "", "Comfort score", "exp(-(a_rms / accel_scale)² - (j_rms / jerk_scale)²); 0 on collision",
            _score("comfort"), group="score", digits=4, source=SCORES),

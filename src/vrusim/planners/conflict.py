@@ -4,11 +4,13 @@ Each VRU track is projected onto the ego route (Frenet frame: station s along th
 left positive) and its velocity and acceleration split into along-route and cross-route parts. Under constant
 acceleration in that frame (a VRU setting off is predicted to keep speeding up; one at its top speed has none),
 the VRU occupies the ego's corridor (|e| <= ego half width + VRU radius + margin) during a time window
-[t_in, t_out]. A VRU *conflicts* with the ego path when it is tracked, ahead of the ego's front bumper,
-and its corridor window overlaps [0, horizon]. The distance to it is measured along the route from the front
-bumper to the VRU's near edge, at its current position or at its predicted corridor entry, whichever is
-nearer (the entry point matters on curved routes). A conflicting VRU in the corridor that moves along the
-route faster than `LEAD_SPEED_MPS` (and more along than across) is a *lead* to follow rather than a crossing.
+[t_in, t_out]. A VRU *conflicts* with the ego path when it is tracked, not yet clear of the ego's swept
+footprint (its far edge is still ahead of the ego's rear bumper along the route: a VRU beside the flank still
+counts), and its corridor window overlaps [0, horizon]. The distance to it is measured along the route from
+the front bumper to the VRU's near edge, at its current position or at its predicted corridor entry, whichever
+is nearer (the entry point matters on curved routes), and is 0 for a VRU beside the ego. A conflicting VRU in
+the corridor that moves along the route faster than `LEAD_SPEED_MPS` (and more along than across) is a *lead*
+to follow rather than a crossing.
 
 Track memory: a VRU that drops out of detection (for instance out of the sensor sector beside the bumper) is
 still considered for `memory_s` seconds at its last detected position, predicted forward at its last detected
@@ -106,6 +108,7 @@ def analyse_vru(
     offset,
     station_guess,
     front_station,
+    rear_station,
     half_width,
     radius,
     margin,
@@ -117,7 +120,11 @@ def analyse_vru(
     ax,
     ay,
 ):  # pragma: no cover (compiled)
-    """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s)."""
+    """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s).
+
+    `front_station` and `rear_station` are the route stations of the ego's front and rear bumpers, m: the VRU
+    is tracked until its far edge is behind the rear bumper (clear of the swept footprint).
+    """
     station, px, py, tx, ty, _ = project_point(path, offset, station_guess, x, y, 2)
     lateral = tx * (y - py) - ty * (x - px)
     along = vx * tx + vy * ty
@@ -135,7 +142,7 @@ def analyse_vru(
         2,
     )[0]
     distance = max(min(station, entry) - radius - front_station, 0.0)
-    ahead = station + radius >= front_station
+    ahead = station + radius >= rear_station
     conflict = ahead and t_out >= 0.0 and t_in <= horizon
     lead = conflict and in_corridor and along > LEAD_SPEED_MPS and along > abs(cross)
     return station, conflict, lead, distance, along, t_in, t_out
@@ -154,6 +161,7 @@ def track_and_analyse(
     track,
     station,
     front_station,
+    rear_station,
     half_width,
     radius,
     margin,
@@ -170,7 +178,7 @@ def track_and_analyse(
         return False, station, False, False, np.inf, 0.0, np.inf, -np.inf
     guess = warm_station(path, offset, was_known, x, y, station)
     s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-        path, offset, guess, front_station, half_width, radius, margin, horizon, x, y, vx, vy, ax, ay
+        path, offset, guess, front_station, rear_station, half_width, radius, margin, horizon, x, y, vx, vy, ax, ay
     )
     return True, s, conflict, lead, distance, along, t_in, t_out
 
@@ -262,6 +270,7 @@ def _analyse_batch(
                 tracks[b, k],
                 station[b, k],
                 front_station[b],
+                front_station[b],  # no ego length in an Observation: tracked to the front bumper, as before
                 half_width[b],
                 radius[b, k],
                 margin[b],

@@ -73,6 +73,7 @@ class FsmPlanner(PlannerBase):
         per_variant = planner_params(params)
         self.table = np.array([[getattr(p, name) for name in PARAM_ORDER] for p in per_variant])
         self.zone_length = 2.0 * params.half_length_m + 2.0 * params.half_width_m
+        self.ego_length = 2.0 * params.half_length_m
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.tracks: np.ndarray | None = None
         self.station: np.ndarray | None = None
@@ -96,6 +97,7 @@ class FsmPlanner(PlannerBase):
             obs.cruise_speed_mps,
             obs.half_width_m,
             self.zone_length,
+            self.ego_length,
             obs.detected,
             obs.vru_estimate,
             obs.vru_radius_m,
@@ -154,6 +156,7 @@ def _fsm_step(
     cruise_speed,
     half_width,
     zone_length,
+    ego_length,
     detected,
     estimate,
     radius,
@@ -183,6 +186,7 @@ def _fsm_step(
                 tracks[b, k],
                 station[b, k],
                 front_station[b],
+                front_station[b] - ego_length[b],
                 half_width[b],
                 radius[b, k],
                 p[b, _MARGIN],

@@ -223,7 +223,8 @@ def _predictive_step(
             r = radius[b, k]
             guess = warm_station(route, offsets[b], was_known, x, y, station[b, k])
             s_now, _, lead, _, _, _, _ = analyse_vru(
-                route, offsets[b], guess, front_station[b], half_width[b], r, p[b, _MARGIN_M], ENTRY_HORIZON_S,
+                route, offsets[b], guess, front_station[b], front_station[b], half_width[b], r, p[b, _MARGIN_M],
+                ENTRY_HORIZON_S,
                 x, y, vx, vy, 0.0, 0.0,
             )  # fmt: skip
             station[b, k] = s_now

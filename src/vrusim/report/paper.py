@@ -101,10 +101,14 @@ def events_table(result: dict[str, Any]) -> Html:
 
 def match_counts(result: dict[str, Any]) -> list[tuple[str, Html]]:
     """Matching outcomes, events and individual scores, as facts with ids (match-outcomes, ...)."""
+    from vrusim.paper.cases import BASES
     from vrusim.paper.cases import match_counts as counts
 
     return [
-        (name, tag("span", f"{ok} / {total}", id=f"match-{name}", data_value=f"[{ok},{total}]"))
+        (
+            f"scores: {BASES[name]}" if name in BASES else name,
+            tag("span", f"{ok} / {total}", id=f"match-{name}", data_value=f"[{ok},{total}]"),
+        )
         for name, (ok, total) in counts(result).items()
     ]
 

@@ -68,7 +68,7 @@ def run_report(
     scenario = apply_planner_and_seed(scenario_of(str(source), v2x, option="--v2x"), planner, seed)
     recording = record([scenario])[0]
     row = recording.summary
-    outcome = "collision" if row["collided"] else "avoided"
+    outcome = row.get("outcome") or ("collision" if row["collided"] else "avoided")
     sections = [
         Section("what-was-run", "What was run", facts(what_was_run(scenario, row, file), "run-facts")),
         Section(
