@@ -11,6 +11,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+from vrusim.engine.surrogates import (
+    PER_VRU_FIELDS,
+    SURROGATE_FIELDS,
+    SURROGATE_ROWS,
+    initial_surrogates,
+    record_surrogates,
+)
 from vrusim.geometry.contact import clearance_local, to_local
 from vrusim.kernels import batch_kernel, prange
 from vrusim.sim.params import BatchParams
@@ -74,6 +81,10 @@ ACCUMULATORS = (
 )
 """Accumulator rows, declared once: the metric catalogue (`vrusim.metrics.catalog`) refers to them by name."""
 FIELDS = tuple(row.name for row in ACCUMULATORS)
+ACCUMULATORS += tuple(Accumulator(*row) for row in SURROGATE_ROWS)
+"""... then the surrogate safety measures' rows (`engine.surrogates`, held in `RunMetrics.surrogates`)."""
+_SURROGATE_INDEX = {name: index for index, name in enumerate(SURROGATE_FIELDS)}
+_PER_VRU_INDEX = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
 # Row indices for the compiled kernels (module constants, so numba folds them in).
@@ -143,6 +154,8 @@ class RunMetrics:
         values[FINAL_V] = params.start_speed_mps
         values[PREV_V] = params.start_speed_mps
         self.values = values
+        self.surrogates, self.per_vru = initial_surrogates(B, params.vru_slots)
+        """Surrogate safety rows [S, B] and per-VRU rows [V, B, K] (`engine.surrogates`)."""
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
@@ -155,6 +168,8 @@ class RunMetrics:
         sub = RunMetrics.__new__(RunMetrics)
         sub.params = params
         sub.values = np.ascontiguousarray(self.values[:, index])
+        sub.surrogates = np.ascontiguousarray(self.surrogates[:, index])
+        sub.per_vru = np.ascontiguousarray(self.per_vru[:, index])
         sub.collided = self.collided[index]
         sub.first_mode_s = self.first_mode_s[index]
         sub.transitions = self.transitions
@@ -165,14 +180,23 @@ class RunMetrics:
         """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
         rows = sub._variant
         self.values[:, rows] = sub.values
+        self.surrogates[:, rows] = sub.surrogates
+        self.per_vru[:, rows] = sub.per_vru
         self.collided[rows] = sub.collided
         self.first_mode_s[rows] = sub.first_mode_s
 
     def __getattr__(self, name: str) -> np.ndarray:
         index = _I.get(name)
+        if index is not None:
+            return self.values[index]
+        index = _SURROGATE_INDEX.get(name)
         if index is None:
             raise AttributeError(name)
-        return self.values[index]
+        return self.surrogates[index]
+
+    def vru_row(self, name: str) -> np.ndarray:
+        """A per-VRU row [B, K] of `engine.surrogates.PER_VRU_ROWS` (`min_ttc_s`, `min_clearance_m`, `pet_s`)."""
+        return self.per_vru[_PER_VRU_INDEX[name]]
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
@@ -231,6 +255,11 @@ class RunMetrics:
             self.values,
             self.collided,
         )
+        record_surrogates(
+            p.size, t_s, p.dt_s, active, ego.speed_mps, ego.heading_x, ego.heading_y, ego.centre_x_m, ego.centre_y_m,
+            ego.station_m, p.rear_to_centre_m, p.half_length_m, p.half_width_m, p.vru_radius_m, vrus.kinematics,
+            clearance, ttc, p.tet_ttc_threshold_s, self.surrogates, self.per_vru,
+        )  # fmt: skip
 
 
 @batch_kernel
