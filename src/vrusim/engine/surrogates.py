@@ -84,7 +84,7 @@ def record_surrogates(
     for b in prange(B):
         if not active[b]:
             continue
-        l, w, v = half_length[b], half_width[b], speed[b]
+        hl, w, v = half_length[b], half_width[b], speed[b]
         centre_station = station[b] + rear_to_centre[b]
         soonest = np.inf
         for k in range(K):
@@ -101,23 +101,23 @@ def record_surrogates(
                 if drac > s[DRAC, b]:
                     s[DRAC, b], s[DRAC_T, b] = drac, t
             x, y = to_local(centre_x[b], centre_y[b], hx[b], hy[b], vru[0, b, k], vru[1, b, k])
-            if abs(x) <= l:
+            if abs(x) <= hl:
                 lateral = abs(y) - w - r
                 if lateral < s[LAT, b]:
                     s[LAT, b], s[LAT_T, b] = lateral, t
             if np.isnan(pv[PET, b, k]):
-                _pet_step(t, dt, v, x, y, l, w, r, centre_station, pv, b, k)
+                _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k)
         if 0.0 <= soonest <= threshold[b]:
             s[TET, b] += dt
             s[TIT, b] += (threshold[b] - soonest) * dt
 
 
 @njit(cache=True, inline="always")
-def _pet_step(t, dt, v, x, y, l, w, r, centre_station, pv, b, k):  # pragma: no cover (compiled)
+def _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k):  # pragma: no cover (compiled)
     """One step of VRU k's post-encroachment time (docs/metrics.md, "Post-encroachment time")."""
     inside = abs(y) <= w + r
     if np.isnan(pv[PET_IN, b, k]):
-        gap = x + l + r  # <= 0: the ego's rear has passed the VRU's disc
+        gap = x + hl + r  # <= 0: the ego's rear has passed the VRU's disc
         if not inside:
             before = pv[PET_GAP, b, k]
             if before > 0.0 and gap <= 0.0:
@@ -129,16 +129,15 @@ def _pet_step(t, dt, v, x, y, l, w, r, centre_station, pv, b, k):  # pragma: no 
             passed = pv[PET_PASS, b, k]
             pv[PET, b, k] = t - passed if passed == passed else np.inf
             return
-    elif np.isnan(pv[PET_OUT, b, k]):
-        if not inside:
-            pv[PET_OUT, b, k] = t
+    elif np.isnan(pv[PET_OUT, b, k]) and not inside:
+        pv[PET_OUT, b, k] = t
     if np.isnan(pv[PET_OUT, b, k]):  # in the corridor: the zone grows, or both occupy it at once
-        if abs(x) <= l + r:
+        if abs(x) <= hl + r:
             pv[PET, b, k] = 0.0
         elif x > 0.0:
             pv[PET_ZONE, b, k] = min(pv[PET_ZONE, b, k], centre_station + x - r)
         return
-    front = centre_station + l
+    front = centre_station + hl
     if front >= pv[PET_ZONE, b, k]:  # the ego enters the zone the VRU left: interpolated back at speed v
         back = (front - pv[PET_ZONE, b, k]) / v if v > 0.0 else 0.0
         pv[PET, b, k] = max(t - min(back, dt) - pv[PET_OUT, b, k], 0.0)
