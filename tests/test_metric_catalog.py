@@ -59,6 +59,11 @@ SUMMARY_KEYS = [
     "impact_location",
     "door_collision",
     "impact_vru",
+    "speed_reduction_mps",
+    "delta_v_ego_mps",
+    "delta_v_vru_mps",
+    "fatality_risk",
+    "serious_injury_risk",
     "first_sensor_detection_s",
     "first_v2x_message_s",
     "first_warning_s",
@@ -66,7 +71,19 @@ SUMMARY_KEYS = [
     "first_mode_s",
     "transitions",
     "min_clearance_m",
+    "min_clearance_time_s",
     "min_ttc_s",
+    "min_ttc_time_s",
+    "min_lateral_clearance_m",
+    "min_lateral_clearance_time_s",
+    "tet_s",
+    "tit_s2",
+    "peak_drac_mps2",
+    "peak_drac_time_s",
+    "peak_btn",
+    "pet_s",
+    "min_ttc_per_vru_s",
+    "min_clearance_per_vru_m",
     "peak_accel_mps2",
     "peak_decel_mps2",
     "peak_jerk_mps3",
@@ -83,16 +100,20 @@ SUMMARY_KEYS = [
     "comfort",
     "score_profile",
 ]
-"""The summary row's keys in order, as before the catalogue (JSON of `vrusim run --json`)."""
-FLOATS = [
+"""The summary row's keys in order, as before the catalogue (JSON of `vrusim run --json`), with issue 17's metrics."""
+PER_VRU_COLUMNS = {"min_ttc_per_vru_s": ["min_ttc_vru0_s"], "min_clearance_per_vru_m": ["min_clearance_vru0_m"]}
+"""The per-VRU metrics and their columns in a batch with one VRU slot."""
+MEASURES = [
     key
     for key in SUMMARY_KEYS[SUMMARY_KEYS.index("contact_time_s") : SUMMARY_KEYS.index("safety")]
     if key not in ("impact_side", "impact_body_side", "door_collision", "impact_vru", "first_mode_s", "transitions")
 ]
-"""The float measure columns: the metrics of the summary row but the outcome columns, planner ones and scores."""
+FLOATS = [key for key in MEASURES if key not in PER_VRU_COLUMNS]
+"""The float measure columns: the metrics of the summary row but the outcome columns, planner ones, scores and the
+per-VRU metrics (several columns each)."""
 FSM_COLUMNS = [
     *("outcome", "collided", "impact_side", "impact_body_side", "door_collision", "impact_vru"),
-    *FLOATS,
+    *(column for key in MEASURES for column in PER_VRU_COLUMNS.get(key, [key])),
     *("first_pre_slow_s", "first_emergency_brake_s", "first_follow_s", "transitions"),
     *("safety", "efficiency", "comfort"),
 ]

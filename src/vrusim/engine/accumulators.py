@@ -13,7 +13,6 @@ import numpy as np
 
 from vrusim.engine.surrogates import (
     PER_VRU_FIELDS,
-    SURROGATE_FIELDS,
     SURROGATE_ROWS,
     initial_surrogates,
     record_surrogates,
@@ -80,10 +79,10 @@ ACCUMULATORS = (
     Accumulator("impact_door", "at", "1 when the first contact was with the opened door (`ego.door`), else 0"),
 )
 """Accumulator rows, declared once: the metric catalogue (`vrusim.metrics.catalog`) refers to them by name."""
-FIELDS = tuple(row.name for row in ACCUMULATORS)
+SURROGATE_START = len(ACCUMULATORS)
+"""First row of the surrogate safety measures (`engine.surrogates.SURROGATE_ROWS`), which follow."""
 ACCUMULATORS += tuple(Accumulator(*row) for row in SURROGATE_ROWS)
-"""... then the surrogate safety measures' rows (`engine.surrogates`, held in `RunMetrics.surrogates`)."""
-_SURROGATE_INDEX = {name: index for index, name in enumerate(SURROGATE_FIELDS)}
+FIELDS = tuple(row.name for row in ACCUMULATORS)
 _PER_VRU_INDEX = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
@@ -154,8 +153,8 @@ class RunMetrics:
         values[FINAL_V] = params.start_speed_mps
         values[PREV_V] = params.start_speed_mps
         self.values = values
-        self.surrogates, self.per_vru = initial_surrogates(B, params.vru_slots)
-        """Surrogate safety rows [S, B] and per-VRU rows [V, B, K] (`engine.surrogates`)."""
+        self.per_vru = initial_surrogates(values[SURROGATE_START:], params.vru_slots)
+        """Per-VRU rows [B, V, K] (`engine.surrogates.PER_VRU_ROWS`)."""
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
@@ -168,8 +167,7 @@ class RunMetrics:
         sub = RunMetrics.__new__(RunMetrics)
         sub.params = params
         sub.values = np.ascontiguousarray(self.values[:, index])
-        sub.surrogates = np.ascontiguousarray(self.surrogates[:, index])
-        sub.per_vru = np.ascontiguousarray(self.per_vru[:, index])
+        sub.per_vru = np.ascontiguousarray(self.per_vru[index])
         sub.collided = self.collided[index]
         sub.first_mode_s = self.first_mode_s[index]
         sub.transitions = self.transitions
@@ -180,23 +178,19 @@ class RunMetrics:
         """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
         rows = sub._variant
         self.values[:, rows] = sub.values
-        self.surrogates[:, rows] = sub.surrogates
-        self.per_vru[:, rows] = sub.per_vru
+        self.per_vru[rows] = sub.per_vru
         self.collided[rows] = sub.collided
         self.first_mode_s[rows] = sub.first_mode_s
 
     def __getattr__(self, name: str) -> np.ndarray:
         index = _I.get(name)
-        if index is not None:
-            return self.values[index]
-        index = _SURROGATE_INDEX.get(name)
         if index is None:
             raise AttributeError(name)
-        return self.surrogates[index]
+        return self.values[index]
 
     def vru_row(self, name: str) -> np.ndarray:
         """A per-VRU row [B, K] of `engine.surrogates.PER_VRU_ROWS` (`min_ttc_s`, `min_clearance_m`, `pet_s`)."""
-        return self.per_vru[_PER_VRU_INDEX[name]]
+        return self.per_vru[:, _PER_VRU_INDEX[name]]
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
@@ -258,7 +252,7 @@ class RunMetrics:
         record_surrogates(
             p.size, t_s, p.dt_s, active, ego.speed_mps, ego.heading_x, ego.heading_y, ego.centre_x_m, ego.centre_y_m,
             ego.station_m, p.rear_to_centre_m, p.half_length_m, p.half_width_m, p.vru_radius_m, vrus.kinematics,
-            clearance, ttc, p.tet_ttc_threshold_s, self.surrogates, self.per_vru,
+            clearance, ttc, p.tet_ttc_threshold_s, self.values[SURROGATE_START:], self.per_vru,
         )  # fmt: skip
 
 

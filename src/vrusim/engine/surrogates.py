@@ -1,7 +1,7 @@
 """Surrogate safety measures reduced inside the step loop: TET/TIT, DRAC, lateral clearance, PET, per-VRU minima.
 
-Per-variant rows (`SURROGATE_ROWS`, [S, B]) join the engine's accumulators (`engine.accumulators`); per-VRU rows
-(`PER_VRU_ROWS`, [V, B, K]) hold each VRU slot's minima and the state of its post-encroachment time. Memory is
+Per-variant rows (`SURROGATE_ROWS`) are the last rows of the engine's accumulators (`engine.accumulators`); the
+kernel sees them as an [S, B] view. Per-VRU rows (`PER_VRU_ROWS`, [B, V, K]) hold each VRU slot's minima and the state of its post-encroachment time. Memory is
 O(B x K). Definitions, units and sources are in docs/metrics.md ("Surrogate safety measures").
 """
 
@@ -37,7 +37,7 @@ PER_VRU_ROWS = (
     ("pet_rear_pass_s", "time the ego's rear passed its disc before it entered (NaN: not yet)"),
     ("pet_rear_gap_m", "x + l + r at the previous step (carry)"),
 )
-"""Per-VRU rows [V, B, K]: (name, content)."""
+"""Per-VRU rows [B, V, K]: (name, content)."""
 PER_VRU_FIELDS = tuple(name for name, _ in PER_VRU_ROWS)
 _V = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 V_TTC, V_CLR, PET = _V["min_ttc_s"], _V["min_clearance_m"], _V["pet_s"]
@@ -46,15 +46,15 @@ PET_IN, PET_OUT, PET_ZONE, PET_PASS, PET_GAP = (
 )  # fmt: skip
 
 
-def initial_surrogates(size: int, slots: int) -> tuple[np.ndarray, np.ndarray]:
-    """Fresh per-variant [S, B] and per-VRU [V, B, K] rows before the first step."""
-    rows = np.zeros((len(SURROGATE_FIELDS), size))
+def initial_surrogates(rows: np.ndarray, slots: int) -> np.ndarray:
+    """Set the per-variant rows [S, B] (zeros) to their values before the first step; return fresh per-VRU rows
+    [B, V, K]."""
     rows[[DRAC_T, LAT_T]] = np.nan
     rows[LAT] = np.inf
-    per_vru = np.full((len(PER_VRU_FIELDS), size, slots), np.nan)
-    per_vru[[V_TTC, V_CLR, PET_ZONE]] = np.inf
-    per_vru[PET_GAP] = -np.inf
-    return rows, per_vru
+    per_vru = np.full((rows.shape[1], len(PER_VRU_FIELDS), slots), np.nan)
+    per_vru[:, [V_TTC, V_CLR, PET_ZONE]] = np.inf
+    per_vru[:, PET_GAP] = -np.inf
+    return per_vru
 
 
 @batch_kernel
@@ -79,7 +79,7 @@ def record_surrogates(
     s,
     pv,
 ):  # pragma: no cover (compiled)
-    """Fold one step (ending at t) into the surrogate rows `s` [S, B] and per-VRU rows `pv` [V, B, K]."""
+    """Fold one step (ending at t) into the surrogate rows `s` [S, B] and per-VRU rows `pv` [B, V, K]."""
     B, K = clearance.shape
     for b in prange(B):
         if not active[b]:
@@ -90,10 +90,10 @@ def record_surrogates(
         for k in range(K):
             tau, r = ttc[b, k], radius[b, k]
             soonest = min(soonest, tau)
-            if tau < pv[V_TTC, b, k]:
-                pv[V_TTC, b, k] = tau
-            if clearance[b, k] < pv[V_CLR, b, k]:
-                pv[V_CLR, b, k] = clearance[b, k]
+            if tau < pv[b, V_TTC, k]:
+                pv[b, V_TTC, k] = tau
+            if clearance[b, k] < pv[b, V_CLR, k]:
+                pv[b, V_CLR, k] = clearance[b, k]
             vx, vy = vru[2, b, k], vru[3, b, k]
             closing = v - (vx * hx[b] + vy * hy[b])
             if 0.0 < tau < np.inf and closing > 0.0:
@@ -105,7 +105,7 @@ def record_surrogates(
                 lateral = abs(y) - w - r
                 if lateral < s[LAT, b]:
                     s[LAT, b], s[LAT_T, b] = lateral, t
-            if np.isnan(pv[PET, b, k]):
+            if np.isnan(pv[b, PET, k]):
                 _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k)
         if 0.0 <= soonest <= threshold[b]:
             s[TET, b] += dt
@@ -116,28 +116,28 @@ def record_surrogates(
 def _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k):  # pragma: no cover (compiled)
     """One step of VRU k's post-encroachment time (docs/metrics.md, "Post-encroachment time")."""
     inside = abs(y) <= w + r
-    if np.isnan(pv[PET_IN, b, k]):
+    if np.isnan(pv[b, PET_IN, k]):
         gap = x + hl + r  # <= 0: the ego's rear has passed the VRU's disc
         if not inside:
-            before = pv[PET_GAP, b, k]
+            before = pv[b, PET_GAP, k]
             if before > 0.0 and gap <= 0.0:
-                pv[PET_PASS, b, k] = t - dt + dt * before / (before - gap)
-            pv[PET_GAP, b, k] = gap
+                pv[b, PET_PASS, k] = t - dt + dt * before / (before - gap)
+            pv[b, PET_GAP, k] = gap
             return
-        pv[PET_IN, b, k] = t
+        pv[b, PET_IN, k] = t
         if gap <= 0.0:  # the ego left the zone first
-            passed = pv[PET_PASS, b, k]
-            pv[PET, b, k] = t - passed if passed == passed else np.inf
+            passed = pv[b, PET_PASS, k]
+            pv[b, PET, k] = t - passed if passed == passed else np.inf
             return
-    elif np.isnan(pv[PET_OUT, b, k]) and not inside:
-        pv[PET_OUT, b, k] = t
-    if np.isnan(pv[PET_OUT, b, k]):  # in the corridor: the zone grows, or both occupy it at once
+    elif np.isnan(pv[b, PET_OUT, k]) and not inside:
+        pv[b, PET_OUT, k] = t
+    if np.isnan(pv[b, PET_OUT, k]):  # in the corridor: the zone grows, or both occupy it at once
         if abs(x) <= hl + r:
-            pv[PET, b, k] = 0.0
+            pv[b, PET, k] = 0.0
         elif x > 0.0:
-            pv[PET_ZONE, b, k] = min(pv[PET_ZONE, b, k], centre_station + x - r)
+            pv[b, PET_ZONE, k] = min(pv[b, PET_ZONE, k], centre_station + x - r)
         return
     front = centre_station + hl
-    if front >= pv[PET_ZONE, b, k]:  # the ego enters the zone the VRU left: interpolated back at speed v
-        back = (front - pv[PET_ZONE, b, k]) / v if v > 0.0 else 0.0
-        pv[PET, b, k] = max(t - min(back, dt) - pv[PET_OUT, b, k], 0.0)
+    if front >= pv[b, PET_ZONE, k]:  # the ego enters the zone the VRU left: interpolated back at speed v
+        back = (front - pv[b, PET_ZONE, k]) / v if v > 0.0 else 0.0
+        pv[b, PET, k] = max(t - min(back, dt) - pv[b, PET_OUT, k], 0.0)
