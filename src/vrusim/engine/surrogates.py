@@ -1,8 +1,9 @@
 """Surrogate safety measures reduced inside the step loop: TET/TIT, DRAC, lateral clearance, PET, per-VRU minima.
 
 Per-variant rows (`SURROGATE_ROWS`) are the last rows of the engine's accumulators (`engine.accumulators`); the
-kernel sees them as an [S, B] view. Per-VRU rows (`PER_VRU_ROWS`, [B, V, K]) hold each VRU slot's minima and the state of its post-encroachment time. Memory is
-O(B x K). Definitions, units and sources are in docs/metrics.md ("Surrogate safety measures").
+kernel sees them as an [S, B] view. Per-VRU rows (`PER_VRU_ROWS`, [B, V, K]) hold each VRU slot's minima and the
+state of its post-encroachment time. Memory is O(B x K). Definitions, units and sources are in docs/metrics.md
+("Surrogate safety measures").
 """
 
 from __future__ import annotations
