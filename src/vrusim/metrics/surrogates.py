@@ -24,6 +24,7 @@ __all__ = [
     "per_vru_columns",
     "per_vru_json",
     "pet",
+    "plastic_delta_v",
     "serious_injury_risk",
     "speed_reduction",
 ]
@@ -43,13 +44,22 @@ def speed_reduction(view: BatchView) -> np.ndarray:
     return np.where(collided, reduction, np.nan)
 
 
+def plastic_delta_v(
+    ego_mass_kg: np.ndarray, vru_mass_kg: np.ndarray, relative_speed_mps: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(ego Δv, VRU Δv), m/s, of a perfectly plastic collision at that relative speed (momentum conserved)."""
+    total = np.asarray(ego_mass_kg, dtype=float) + vru_mass_kg
+    speed = np.abs(relative_speed_mps)
+    return vru_mass_kg / total * speed, ego_mass_kg / total * speed
+
+
 def _delta_v(view: BatchView, of_ego: bool) -> np.ndarray:
     collided, slot = _hit(view)
     p = view.params
     vru_mass = p.vru_mass_kg[np.arange(view.size), slot]
-    other = vru_mass if of_ego else p.ego_mass_kg
     speed = np.where(collided, view.accumulators.impact_relative_speed_mps, 0.0)
-    return other / (p.ego_mass_kg + vru_mass) * speed
+    ego, vru = plastic_delta_v(p.ego_mass_kg, vru_mass, speed)
+    return ego if of_ego else vru
 
 
 def delta_v_ego(view: BatchView) -> np.ndarray:
