@@ -238,3 +238,16 @@ def test_bad_mass_exits_2_naming_the_field(tmp_path):
     result = CliRunner().invoke(app, ["run", str(path)], catch_exceptions=False)
     assert result.exit_code == 2, result.output
     assert "vrus[0].mass_kg" in result.output and "Traceback" not in result.output
+
+
+def test_per_vru_rows_are_the_same_alone_and_in_a_batch_with_more_slots():
+    one = minimal_scenario_dict()
+    one["vrus"] = [vru(30.0, -5.0, speed=2.0)]
+    one["ego"]["start"]["x_m"] = -20.0
+    two = minimal_scenario_dict()
+    two["vrus"] = [vru(20.0, 0.0, speed=5.0, heading=0.0), vru(15.0, 2.0)]
+    scenarios = [scenario_from_mapping(data, "case.yaml") for data in (one, two)]
+    batch = simulate(scenarios).metrics
+    alone = simulate(scenarios[:1]).metrics
+    for row_name in ("min_ttc_s", "min_clearance_m", "pet_s"):
+        np.testing.assert_array_equal(batch.vru_row(row_name)[0, :1], alone.vru_row(row_name)[0], err_msg=row_name)

@@ -153,8 +153,8 @@ class RunMetrics:
         values[FINAL_V] = params.start_speed_mps
         values[PREV_V] = params.start_speed_mps
         self.values = values
-        self.per_vru = initial_surrogates(values[SURROGATE_START:], params.vru_slots)
-        """Per-VRU rows [B, V, K] (`engine.surrogates.PER_VRU_ROWS`)."""
+        self._per_vru = initial_surrogates(values[SURROGATE_START:], params.vru_slots)
+        """Per-VRU rows [B, V, K] (`engine.surrogates.PER_VRU_ROWS`); slots beyond a variant's VRUs are parked."""
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
@@ -167,7 +167,7 @@ class RunMetrics:
         sub = RunMetrics.__new__(RunMetrics)
         sub.params = params
         sub.values = np.ascontiguousarray(self.values[:, index])
-        sub.per_vru = np.ascontiguousarray(self.per_vru[index])
+        sub._per_vru = np.ascontiguousarray(self._per_vru[index])
         sub.collided = self.collided[index]
         sub.first_mode_s = self.first_mode_s[index]
         sub.transitions = self.transitions
@@ -178,7 +178,7 @@ class RunMetrics:
         """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
         rows = sub._variant
         self.values[:, rows] = sub.values
-        self.per_vru[rows] = sub.per_vru
+        self._per_vru[rows] = sub._per_vru
         self.collided[rows] = sub.collided
         self.first_mode_s[rows] = sub.first_mode_s
 
@@ -190,7 +190,7 @@ class RunMetrics:
 
     def vru_row(self, name: str) -> np.ndarray:
         """A per-VRU row [B, K] of `engine.surrogates.PER_VRU_ROWS` (`min_ttc_s`, `min_clearance_m`, `pet_s`)."""
-        return self.per_vru[:, _PER_VRU_INDEX[name]]
+        return self._per_vru[:, _PER_VRU_INDEX[name]]
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
@@ -252,7 +252,7 @@ class RunMetrics:
         record_surrogates(
             p.size, t_s, p.dt_s, active, ego.speed_mps, ego.heading_x, ego.heading_y, ego.centre_x_m, ego.centre_y_m,
             ego.station_m, p.rear_to_centre_m, p.half_length_m, p.half_width_m, p.vru_radius_m, vrus.kinematics,
-            clearance, ttc, p.tet_ttc_threshold_s, self.values[SURROGATE_START:], self.per_vru,
+            clearance, ttc, p.tet_ttc_threshold_s, self.values[SURROGATE_START:], self._per_vru,
         )  # fmt: skip
 
 
