@@ -20,6 +20,8 @@ from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 
 GENERIC_KWARGS = {"scenario": "CPNA-25/20kph/day"}
+PER_VRU_COLUMNS = ("min_ttc_vru0_s", "min_clearance_vru0_m")
+"""The per-VRU measures' columns of a one-VRU scenario, also in `info["metrics"]`."""
 
 
 def _equal(a, b) -> bool:
@@ -55,7 +57,8 @@ def test_random_episode_ends_with_finite_rewards_inside_the_space():
         rewards.append(reward)
     assert env.observation_space.contains(obs)
     assert np.isfinite(rewards).all() and len(rewards) > 10
-    assert set(info["metrics"]) == set(SUMMARY_COLUMNS)
+    assert set(info["metrics"]) == {*SUMMARY_COLUMNS, *PER_VRU_COLUMNS}
+    assert info["metrics"]["min_ttc_vru0_s"] == info["metrics"]["min_ttc_s"] or np.isnan(info["metrics"]["min_ttc_s"])
     with pytest.raises(RuntimeError, match="reset"):
         env.step(env.action_space.sample())
 
@@ -205,5 +208,5 @@ def test_a_registered_metric_is_in_the_episode_summary():
             _, _, terminated, truncated, info = env.step(np.array([0.0], dtype=np.float32))
     finally:
         extra_metric.unregister()
-    assert set(info["metrics"]) == {*SUMMARY_COLUMNS, "mean_speed_mps", "stopped_at_end"}
+    assert set(info["metrics"]) == {*SUMMARY_COLUMNS, *PER_VRU_COLUMNS, "mean_speed_mps", "stopped_at_end"}
     assert isinstance(info["metrics"]["stopped_at_end"], bool) and info["metrics"]["mean_speed_mps"] > 0

@@ -59,6 +59,11 @@ SUMMARY_KEYS = [
     "impact_location",
     "door_collision",
     "impact_vru",
+    "speed_reduction_mps",
+    "delta_v_ego_mps",
+    "delta_v_vru_mps",
+    "fatality_risk",
+    "serious_injury_risk",
     "first_sensor_detection_s",
     "first_v2x_message_s",
     "first_warning_s",
@@ -66,7 +71,19 @@ SUMMARY_KEYS = [
     "first_mode_s",
     "transitions",
     "min_clearance_m",
+    "min_clearance_time_s",
     "min_ttc_s",
+    "min_ttc_time_s",
+    "min_lateral_clearance_m",
+    "min_lateral_clearance_time_s",
+    "tet_s",
+    "tit_s2",
+    "peak_drac_mps2",
+    "peak_drac_time_s",
+    "peak_btn",
+    "pet_s",
+    "min_ttc_per_vru_s",
+    "min_clearance_per_vru_m",
     "peak_accel_mps2",
     "peak_decel_mps2",
     "peak_jerk_mps3",
@@ -84,16 +101,20 @@ SUMMARY_KEYS = [
     "comfort",
     "score_profile",
 ]
-"""The summary row's keys in order, as before the catalogue (JSON of `vrusim run --json`)."""
-FLOATS = [
+"""The summary row's keys in order, as before the catalogue (JSON of `vrusim run --json`), with issue 17's metrics."""
+PER_VRU_COLUMNS = {"min_ttc_per_vru_s": ["min_ttc_vru0_s"], "min_clearance_per_vru_m": ["min_clearance_vru0_m"]}
+"""The per-VRU metrics and their columns in a batch with one VRU slot."""
+MEASURES = [
     key
     for key in SUMMARY_KEYS[SUMMARY_KEYS.index("contact_time_s") : SUMMARY_KEYS.index("safety")]
     if key not in ("impact_side", "impact_body_side", "door_collision", "impact_vru", "first_mode_s", "transitions")
 ]
-"""The float measure columns: the metrics of the summary row but the outcome columns, planner ones and scores."""
+FLOATS = [key for key in MEASURES if key not in PER_VRU_COLUMNS]
+"""The float measure columns: the metrics of the summary row but the outcome columns, planner ones, scores and the
+per-VRU metrics (several columns each)."""
 FSM_COLUMNS = [
     *("outcome", "collided", "impact_side", "impact_body_side", "door_collision", "impact_vru"),
-    *FLOATS,
+    *(column for key in MEASURES for column in PER_VRU_COLUMNS.get(key, [key])),
     *("first_pre_slow_s", "first_emergency_brake_s", "first_follow_s", "transitions"),
     *("safety", "efficiency", "comfort"),
 ]
@@ -114,12 +135,21 @@ CLI_LABELS = [
     "RMS accel",
     "RMS jerk",
     "Travel time",
+    "Min lateral clearance",
+    "PET",
+    "Peak DRAC",
+    "TET / TIT",
+    "Min TTC per VRU",
+    "Min clearance per VRU",
+    "Speed reduction before impact",
+    "Δv ego / VRU",
+    "Fatality / serious injury risk",
     "Safety score",
     "Efficiency score",
     "Comfort score",
 ]
 """The labels of `vrusim run`'s terminal table before the catalogue (hand-written in cli/main.py)."""
-SECTION_ENDS = {"Outcome", "Impact side", "Planner transitions", "Travel time"}
+SECTION_ENDS = {"Outcome", "Impact side", "Planner transitions", "Travel time", "Fatality / serious injury risk"}
 
 
 @pytest.fixture(scope="module")
@@ -259,6 +289,19 @@ def test_display_rows_reproduce_the_terminal_table():
         rms_jerk_mps3=3.0,
         trip_time_s=9.5,
         free_travel_time_s=7.25,
+        pet_s=0.0,
+        peak_drac_mps2=12.5,
+        peak_btn=1.5625,
+        peak_drac_time_s=2.4,
+        tet_s=1.25,
+        tit_s2=0.75,
+        min_ttc_per_vru_s=[0.0],
+        min_clearance_per_vru_m=[-0.25],
+        speed_reduction_mps=1.75,
+        delta_v_ego_mps=0.5,
+        delta_v_vru_mps=8.0,
+        fatality_risk=0.02,
+        serious_injury_risk=0.1,
         safety=0.0,
         efficiency=0.0,
         comfort=0.0,
@@ -279,6 +322,15 @@ def test_display_rows_reproduce_the_terminal_table():
         "2.00 m/s²",
         "3.00 m/s³",
         "route not completed (trip time counted as 9.50 s, free flow 7.25 s)",
+        "—",
+        "0.00 s",
+        "12.50 m/s² (BTN 1.56) at 2.40 s",
+        "1.25 s / 0.75 s²",
+        "#0 0.00 s",
+        "#0 -0.25 m",
+        "1.75 m/s",
+        "0.50 m/s / 8.00 m/s",
+        "0.02 / 0.10",
         "0.00",
         "0.00",
         "0.00",

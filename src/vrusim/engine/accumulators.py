@@ -11,6 +11,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from vrusim.engine.surrogates import (
+    PER_VRU_FIELDS,
+    SURROGATE_ROWS,
+    initial_surrogates,
+    record_surrogates,
+)
 from vrusim.geometry.contact import clearance_local, to_local
 from vrusim.kernels import batch_kernel, prange
 from vrusim.sim.params import BatchParams
@@ -74,7 +80,11 @@ ACCUMULATORS = (
     Accumulator("impact_door", "at", "1 when the first contact was with the opened door (`ego.door`), else 0"),
 )
 """Accumulator rows, declared once: the metric catalogue (`vrusim.metrics.catalog`) refers to them by name."""
+SURROGATE_START = len(ACCUMULATORS)
+"""First row of the surrogate safety measures (`engine.surrogates.SURROGATE_ROWS`), which follow."""
+ACCUMULATORS += tuple(Accumulator(*row) for row in SURROGATE_ROWS)
 FIELDS = tuple(row.name for row in ACCUMULATORS)
+_PER_VRU_INDEX = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
 _I = {name: index for index, name in enumerate(FIELDS)}
 # Row indices for the compiled kernels (module constants, so numba folds them in).
@@ -145,6 +155,8 @@ class RunMetrics:
         values[FINAL_V] = params.start_speed_mps
         values[PREV_V] = params.start_speed_mps
         self.values = values
+        self._per_vru = initial_surrogates(values[SURROGATE_START:], params.vru_slots)
+        """Per-VRU rows [B, V, K] (`engine.surrogates.PER_VRU_ROWS`); slots beyond a variant's VRUs are parked."""
         self.collided = np.zeros(B, dtype=bool)
         self.first_mode_s = np.full((B, n_modes), np.nan)
         self.transitions: list[tuple[float, int, int, int]] = []
@@ -157,6 +169,7 @@ class RunMetrics:
         sub = RunMetrics.__new__(RunMetrics)
         sub.params = params
         sub.values = np.ascontiguousarray(self.values[:, index])
+        sub._per_vru = np.ascontiguousarray(self._per_vru[index])
         sub.collided = self.collided[index]
         sub.first_mode_s = self.first_mode_s[index]
         sub.transitions = self.transitions
@@ -167,6 +180,7 @@ class RunMetrics:
         """Write the rows of a `subset` (of this batch, possibly through other subsets) back into this one."""
         rows = sub._variant
         self.values[:, rows] = sub.values
+        self._per_vru[rows] = sub._per_vru
         self.collided[rows] = sub.collided
         self.first_mode_s[rows] = sub.first_mode_s
 
@@ -175,6 +189,10 @@ class RunMetrics:
         if index is None:
             raise AttributeError(name)
         return self.values[index]
+
+    def vru_row(self, name: str) -> np.ndarray:
+        """A per-VRU row [B, K] of `engine.surrogates.PER_VRU_ROWS` (`min_ttc_s`, `min_clearance_m`, `pet_s`)."""
+        return self._per_vru[:, _PER_VRU_INDEX[name]]
 
     def record_detection(self, t_s: float, active, sensed, v2x_received) -> None:
         """First times any VRU is perceived by the sensor / received over V2X."""
@@ -233,6 +251,11 @@ class RunMetrics:
             self.values,
             self.collided,
         )
+        record_surrogates(
+            p.size, t_s, p.dt_s, active, ego.speed_mps, ego.heading_x, ego.heading_y, ego.centre_x_m, ego.centre_y_m,
+            ego.station_m, p.rear_to_centre_m, p.half_length_m, p.half_width_m, p.vru_radius_m, vrus.kinematics,
+            clearance, ttc, p.tet_ttc_threshold_s, self.values[SURROGATE_START:], self._per_vru,
+        )  # fmt: skip
 
 
 @batch_kernel

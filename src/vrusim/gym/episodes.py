@@ -9,19 +9,22 @@ import numpy as np
 from vrusim.gym.features import observation_vectors
 from vrusim.gym.reward import RewardModel, RewardWeights
 from vrusim.gym.stepper import EpisodeStepper
-from vrusim.metrics.catalog import is_builtin, metrics
-from vrusim.metrics.columns import result_columns
+from vrusim.metrics.catalog import BatchView, is_builtin, metrics
+from vrusim.metrics.columns import columns_of
 from vrusim.sim.observation import Observation
 from vrusim.sim.params import BatchParams
 
 
 def summary_columns() -> tuple[str, ...]:
     """Result columns reported in `info["metrics"]` when an episode ends: `collided`, the float measures, every
-    bool or numeric measure a plug-in registered (`vrusim.register_metric`), then the scores."""
+    bool or numeric measure a plug-in registered (`vrusim.register_metric`), then the scores. A per-VRU measure
+    (`min_ttc_per_vru_s`) adds its columns per VRU slot (`min_ttc_vru<k>_s`) besides these."""
     measures = [
         m.name
         for m in metrics()
-        if m.group == "measure" and (m.dtype == "float64" or (m.dtype != "string" and not is_builtin(m.name)))
+        if m.group == "measure"
+        and m.split is None
+        and (m.dtype == "float64" or (m.dtype != "string" and not is_builtin(m.name)))
     ]
     return ("collided", *measures, *(m.name for m in metrics() if m.group == "score"))
 
@@ -40,6 +43,8 @@ class EpisodeBatch:
         self.reward_model = RewardModel(params, weights)
         self.planner_observation: Observation | None = None
         self.columns: dict[str, np.ndarray] | None = None
+        self.vru_columns: tuple[str, ...] = ()
+        """The per-VRU measures' columns (`min_ttc_vru0_s`, ...), known once `columns` are."""
 
     def start(self) -> np.ndarray:
         """Restart every episode; the first observation vectors [B, D]."""
@@ -57,7 +62,14 @@ class EpisodeBatch:
         ended = outcome.terminated | outcome.truncated
         scores = None
         if ended.any():
-            self.columns = result_columns(self.stepper.run())
+            view = BatchView(self.stepper.run())
+            self.columns = columns_of(view)
+            self.vru_columns = tuple(
+                name
+                for m in metrics()
+                if m.group == "measure" and m.split is not None
+                for name in m.split(view, view[m.name])
+            )
             scores = (self.columns["safety"] + self.columns["efficiency"] + self.columns["comfort"]) / 3.0
         reward = self.reward_model.step(outcome, scores)
         return self._observe(), reward, outcome.terminated, outcome.truncated
@@ -65,7 +77,7 @@ class EpisodeBatch:
     def summary(self, b: int) -> dict[str, Any]:
         """Result columns of variant b after its episode ended (floats; NaN: absent)."""
         assert self.columns is not None
-        return {name: _scalar(self.columns[name][b]) for name in summary_columns()}
+        return {name: _scalar(self.columns[name][b]) for name in (*summary_columns(), *self.vru_columns)}
 
 
 def _scalar(value: Any) -> Any:

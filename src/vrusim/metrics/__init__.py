@@ -1,1 +1,1 @@
-"""Judging a run: result columns, summary rows, safety / efficiency / comfort scores."""
+"""Judging a run: result columns, summary rows, collision severity, injury risk, surrogate safety measures, scores."""

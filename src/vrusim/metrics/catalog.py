@@ -31,6 +31,7 @@ from vrusim.geometry.contact import (
     impact_side,
     lateral_impact_fraction,
 )
+from vrusim.metrics import surrogates as sm
 from vrusim.metrics.outcome import outcomes
 from vrusim.metrics.scores import profile, scores
 
@@ -477,6 +478,60 @@ _BUILTIN_METRICS = (
            _score("comfort"), group="score", digits=4, source=SCORES),
 )  # fmt: skip
 
+SEVERITY = "docs/metrics.md#collision-severity"
+INJURY = "docs/metrics.md#injury-risk-metricsinjury_riskpy"
+SURROGATE = "docs/metrics.md#surrogate-safety-measures"
+PET = "docs/metrics.md#post-encroachment-time"
+PER_VRU = "docs/metrics.md#per-vru-minima"
+
+_SAFETY_METRICS = (
+    ("impact_vru", Metric("speed_reduction_mps", "m/s", "Speed reduction before impact",
+                          "cruise speed - impact ego speed (collisions only)", sm.speed_reduction, reduce="at",
+                          source=SEVERITY)),
+    ("speed_reduction_mps", Metric("delta_v_ego_mps", "m/s", "Ego Δv", "m_vru / (m_ego + m_vru) |v_rel|; 0: none",
+                                   sm.delta_v_ego, reduce="at", source=SEVERITY)),
+    ("delta_v_ego_mps", Metric("delta_v_vru_mps", "m/s", "VRU Δv", "m_ego / (m_ego + m_vru) |v_rel|; 0: none",
+                               sm.delta_v_vru, reduce="at", source=SEVERITY)),
+    ("delta_v_vru_mps", Metric("fatality_risk", "", "Fatality risk",
+                               "metrics.injury_risk_curve at the impact relative speed; 0: no collision",
+                               sm.fatality_risk, reduce="at", source=INJURY)),
+    ("fatality_risk", Metric("serious_injury_risk", "", "Serious injury risk (AIS 4+)",
+                             "Tefft (2013) AIS 4+ curve at the impact relative speed; 0: no collision",
+                             sm.serious_injury_risk, reduce="at", short="Serious injury risk",
+                             source=INJURY)),
+    ("min_clearance_m", from_accumulator("min_clearance_time_s", "s", "Time of min clearance",
+                                         "time of min_clearance_m", source=CONTACT)),
+    ("min_ttc_s", from_accumulator("min_ttc_time_s", "s", "Time of min TTC", "time of min_ttc_s", source=TTC)),
+    ("min_ttc_time_s", from_accumulator("min_lateral_clearance_m", "m", "Min lateral clearance while passing",
+                                        "min |y| - w - r while the VRU centre is alongside (|x| <= l)",
+                                        short="Min lateral clearance", source=SURROGATE)),
+    ("min_lateral_clearance_m", from_accumulator("min_lateral_clearance_time_s", "s", "Time of min lateral clearance",
+                                                 "time of min_lateral_clearance_m", source=SURROGATE)),
+    ("min_lateral_clearance_time_s", from_accumulator("tet_s", "s", "Time exposed TTC (TET)",
+                                                      "Σ dt while 0 <= TTC_min <= metrics.tet_ttc_threshold_s",
+                                                      short="TET", source=SURROGATE)),
+    ("tet_s", from_accumulator("tit_s2", "s²", "Time integrated TTC (TIT)",
+                               "Σ (TTC* - TTC_min) dt while 0 <= TTC_min <= TTC*", short="TIT", source=SURROGATE)),
+    ("tit_s2", from_accumulator("peak_drac_mps2", "m/s²", "Peak DRAC", "max v_close / (2 TTC)", source=SURROGATE)),
+    ("peak_drac_mps2", from_accumulator("peak_drac_time_s", "s", "Time of peak DRAC", "time of peak_drac_mps2",
+                                        source=SURROGATE)),
+    ("peak_drac_time_s", Metric("peak_btn", "", "Peak brake threat number", "peak DRAC / ego.max_decel_mps2",
+                                sm.peak_btn, reduce="max", digits=4, short="Peak BTN", source=SURROGATE)),
+    ("peak_btn", Metric("pet_s", "s", "Post-encroachment time", "min over VRUs: 2nd entry - 1st exit of the zone",
+                        sm.pet, reduce="min", short="PET", source=PET)),
+    ("pet_s", Metric("min_ttc_per_vru_s", "s", "Min TTC per VRU", "min_ttc_s of each VRU slot (min_ttc_vru<k>_s)",
+                     sm.per_vru("min_ttc_s"), reduce="min", source=PER_VRU,
+                     split=sm.per_vru_columns("min_ttc_vru{k}_s"), to_json=sm.per_vru_json("min_ttc_vru{k}_s"))),
+    ("min_ttc_per_vru_s", Metric("min_clearance_per_vru_m", "m", "Min clearance per VRU",
+                                 "min_clearance_m of each VRU slot (min_clearance_vru<k>_m)",
+                                 sm.per_vru("min_clearance_m"), reduce="min", source=PER_VRU,
+                                 split=sm.per_vru_columns("min_clearance_vru{k}_m"),
+                                 to_json=sm.per_vru_json("min_clearance_vru{k}_m"))),
+)  # fmt: skip
+"""Collision severity, injury risk and surrogate safety measures (issue 17): (the metric they follow, metric)."""
+
 for _metric in _BUILTIN_METRICS:
     register_metric(_metric)
+for _after, _metric in _SAFETY_METRICS:
+    register_metric(_metric, after=_after)
 _BUILTIN = frozenset(_METRICS)

@@ -17,8 +17,9 @@ from vrusim.metrics.catalog import BatchView, groups, metrics
 
 __all__ = ["FLOAT_COLUMNS", "SCORE_COLUMNS", "columns_of", "result_columns", "score_arrays"]
 
-FLOAT_COLUMNS = tuple(m.name for m in metrics() if m.group == "measure" and m.dtype == "float64")
-"""The built-in float measure columns, in table order (NaN: absent)."""
+FLOAT_COLUMNS = tuple(m.name for m in metrics() if m.group == "measure" and m.dtype == "float64" and m.split is None)
+"""The built-in float measure columns of one column each, in table order (NaN: absent); a per-VRU metric
+(`min_ttc_per_vru_s`) has one column per VRU slot."""
 SCORE_COLUMNS = tuple(m.name for m in metrics() if m.group == "score")
 """The built-in score columns."""
 _SCORE_INPUTS = ("rms_accel_mps2", "rms_jerk_mps3", "free_travel_time_s", "trip_time_s")

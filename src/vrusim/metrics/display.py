@@ -96,6 +96,36 @@ def _travel(row: dict[str, Any]) -> str:
     return f"route not completed (trip time counted as {_value(row, 'trip_time_s')}, free flow {free})"
 
 
+def _with_time(name: str, time: str) -> Callable[[dict[str, Any]], str]:
+    def text(row: dict[str, Any]) -> str:
+        if row[name] is None:
+            return ABSENT
+        return f"{_value(row, name)} at {_value(row, time)}"
+
+    return text
+
+
+def _pair(first: str, second: str) -> Callable[[dict[str, Any]], str]:
+    def text(row: dict[str, Any]) -> str:
+        return f"{_value(row, first)} / {_value(row, second)}"
+
+    return text
+
+
+def _per_vru(name: str) -> Callable[[dict[str, Any]], str]:
+    def text(row: dict[str, Any]) -> str:
+        unit = get_metric(name).unit
+        return ", ".join(f"#{k} {number(value, unit)}" for k, value in enumerate(row[name] or ())) or ABSENT
+
+    return text
+
+
+def _drac(row: dict[str, Any]) -> str:
+    if row["peak_drac_time_s"] is None:
+        return ABSENT
+    return f"{_value(row, 'peak_drac_mps2')} (BTN {number(row['peak_btn'])}) at {_value(row, 'peak_drac_time_s')}"
+
+
 SECTIONS: tuple[tuple[str | Line, ...], ...] = (
     (Line("outcome", _outcome),),
     (
@@ -113,6 +143,17 @@ SECTIONS: tuple[tuple[str | Line, ...], ...] = (
         "rms_accel_mps2",
         "rms_jerk_mps3",
         Line("travel_time_s", _travel),
+    ),
+    (
+        Line("min_lateral_clearance_m", _with_time("min_lateral_clearance_m", "min_lateral_clearance_time_s")),
+        Line("pet_s", lambda row: _value(row, "pet_s")),
+        Line("peak_drac_mps2", _drac, "Peak DRAC"),
+        Line("tet_s", _pair("tet_s", "tit_s2"), "TET / TIT"),
+        Line("min_ttc_per_vru_s", _per_vru("min_ttc_per_vru_s")),
+        Line("min_clearance_per_vru_m", _per_vru("min_clearance_per_vru_m")),
+        "speed_reduction_mps",
+        Line("delta_v_ego_mps", _pair("delta_v_ego_mps", "delta_v_vru_mps"), "Δv ego / VRU"),
+        Line("fatality_risk", _pair("fatality_risk", "serious_injury_risk"), "Fatality / serious injury risk"),
     ),
     ("safety", "efficiency", "comfort"),
 )

@@ -46,6 +46,26 @@ def summary_table(element_id: str, row: dict[str, Any]) -> Html:
     return table(element_id, columns, rows, row_header=Column("quantity", "Quantity"), classes=classes)
 
 
+def per_vru_metrics(row: dict[str, Any]) -> list[str]:
+    """The metrics of a summary row that hold one number per VRU (`min_ttc_per_vru_s`, ...), in catalogue order."""
+    return [
+        m.name
+        for m in metrics()
+        if m.split is not None
+        and isinstance(row.get(m.name), list)
+        and all(v is None or isinstance(v, int | float) for v in row[m.name])
+    ]
+
+
+def per_vru_table(element_id: str, row: dict[str, Any]) -> Html:
+    """The per-VRU metrics of a run: one table row per VRU slot (data-row = slot), one column per metric."""
+    names = per_vru_metrics(row)
+    count = max((len(row[name]) for name in names), default=0)
+    rows = [(str(k), {"vru": k, **{name: row[name][k] for name in names}}) for k in range(count)]
+    columns = [metric_column(name, DIGITS) for name in names]
+    return table(element_id, columns, rows, caption="Per-VRU minima", row_header=Column("vru", "VRU slot"))
+
+
 def transitions_table(element_id: str, row: dict[str, Any]) -> Html:
     """The planner's state changes of a run."""
     rows = [(str(i), item) for i, item in enumerate(row["transitions"])]

@@ -7,7 +7,7 @@ from pathlib import Path
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
 from vrusim.report.page import Report, Section
-from vrusim.report.parts import parameters, summary_table, transitions_table
+from vrusim.report.parts import parameters, per_vru_table, summary_table, transitions_table
 from vrusim.report.run_charts import run_charts
 from vrusim.scenario.schema import Scenario
 from vrusim.sources import apply_planner_and_seed, scenario_file, scenario_of
@@ -77,6 +77,7 @@ def run_report(
             join(
                 [
                     summary_table("summary", row),
+                    per_vru_table("per-vru", row),
                     transitions_table("transitions", row),
                     events_table("events", recording),
                 ]

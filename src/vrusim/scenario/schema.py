@@ -16,6 +16,7 @@ from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
 from vrusim.scenario.strict import StrictModel, the_one_given
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
+from vrusim.scenario.vru_masses import EGO_MASS, VRU_MASS
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 MAX_STEPS = 10_000_000
@@ -144,6 +145,7 @@ class Ego(StrictModel):
     tracking: PathTracking = PathTracking()
     driver: Driver | None = Field(None, description="the driver's pedal schedule (LSC26); None: no driver model")
     door: Door | None = Field(None, description="a door that opens into a VRU's path (LSC26 CBDA); None: none")
+    mass_kg: float = Field(EGO_MASS.mass_kg, ge=100, le=60_000, description="mass for Δv (docs/metrics.md), kg")
 
     @field_validator("reverse")
     @classmethod
@@ -336,6 +338,9 @@ class Vru(StrictModel):
     motion: str = Field(
         "point_mass", min_length=1, description="VRU motion model by name (vrusim.sim.vru.registry); one per batch"
     )
+    mass_kg: float | None = Field(
+        None, ge=1, le=1000, description="with its vehicle, for Δv (docs/metrics.md), kg; None: the type's default"
+    )
 
     @model_validator(mode="after")
     def _one_path(self) -> Self:
@@ -362,6 +367,11 @@ class Vru(StrictModel):
         return self.max_accel_mps2 if self.max_accel_mps2 is not None else VRU_DEFAULTS[self.type].max_accel_mps2
 
     @property
+    def body_mass_kg(self) -> float:
+        """Mass with the vehicle ridden, kg (type default when not given)."""
+        return self.mass_kg if self.mass_kg is not None else VRU_MASS[self.type].mass_kg
+
+    @property
     def footprint_m(self) -> float:
         """Footprint radius, m."""
         return self.radius_m if self.radius_m is not None else VRU_DEFAULTS[self.type].radius_m
@@ -386,9 +396,16 @@ class SimSettings(StrictModel):
 
 
 class MetricsSettings(StrictModel):
-    """Which score calibration profile to use (see docs/metrics.md)."""
+    """Which score calibration profile to use, and the settings of the surrogate and injury metrics (see
+    docs/metrics.md)."""
 
     profile: str = "paper"
+    tet_ttc_threshold_s: float = Field(
+        1.5, gt=0, le=10, description="TTC threshold of TET / TIT, s (default: van der Horst 1990)"
+    )
+    injury_risk_curve: Literal["rosen_sander_2009", "tefft_2013"] = Field(
+        "rosen_sander_2009", description="fatality risk curve (docs/metrics.md, Injury risk)"
+    )
 
     @field_validator("profile")
     @classmethod

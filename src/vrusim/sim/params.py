@@ -49,6 +49,8 @@ class BatchParams:
     """Each variant's `planner.params` as written (read-only mappings); the planner validates them at `reset`."""
     score_profiles: list[str]
     """Each variant's score profile name (`metrics.profile`)."""
+    injury_risk_curves: list[str]
+    """Each variant's fatality risk curve (`metrics.injury_risk_curve`)."""
     vru_motion: str
     """The VRU motion model every VRU of the batch moves by (`vrus[k].motion`, `vrusim.sim.vru.registry`)."""
     dt_s: float
@@ -115,6 +117,13 @@ class BatchParams:
     trigger_value: np.ndarray
     trigger_x_m: np.ndarray
     trigger_y_m: np.ndarray
+    # surrogate and injury metrics (docs/metrics.md)
+    ego_mass_kg: np.ndarray
+    """`ego.mass_kg` [B]."""
+    vru_mass_kg: np.ndarray
+    """Each VRU's mass with its vehicle [B, K] (`vrus[k].mass_kg` or its type's default); 1 in empty slots."""
+    tet_ttc_threshold_s: np.ndarray
+    """TTC threshold of TET / TIT [B] (`metrics.tet_ttc_threshold_s`), s."""
 
     @property
     def size(self) -> int:
@@ -232,6 +241,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     numeric = {name: np.zeros((B, K)) for name in ("top", "acc", "rad", "tau", "tval", "tx", "ty", "v0", "bdecel")}
     brake_after = np.full((B, K), math.inf)
     numeric["rad"][:] = 0.1
+    vru_mass = np.ones((B, K))
     trigger_kind = np.zeros((B, K), dtype=np.int8)
     motion = _batch_motion(scenarios)
     pack_motion = vru_motion(motion).pack
@@ -242,6 +252,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
             vru_valid[b, k] = True
             vru_type[b, k] = vru.type.value
             numeric["rad"][b, k] = vru.footprint_m
+            vru_mass[b, k] = vru.body_mass_kg
             (
                 numeric["top"][b, k],
                 numeric["acc"][b, k],
@@ -282,6 +293,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         planner_names=[s.planner.name for s in scenarios],
         planner_params=[_read_only(s.planner.params) for s in scenarios],
         score_profiles=[s.metrics.profile for s in scenarios],
+        injury_risk_curves=[s.metrics.injury_risk_curve for s in scenarios],
         vru_motion=motion,
         dt_s=dt,
         n_steps=math.ceil(duration.max() / dt - 1e-9),
@@ -336,4 +348,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         trigger_value=numeric["tval"],
         trigger_x_m=numeric["tx"],
         trigger_y_m=numeric["ty"],
+        ego_mass_kg=np.array([s.ego.mass_kg for s in scenarios], dtype=float),
+        vru_mass_kg=vru_mass,
+        tet_ttc_threshold_s=np.array([s.metrics.tet_ttc_threshold_s for s in scenarios], dtype=float),
     )
