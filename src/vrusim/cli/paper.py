@@ -33,15 +33,19 @@ def _outcome(collision: bool) -> str:
     return "collision" if collision else "avoided"
 
 
-def _basis(case: dict) -> str:
-    """How the row's scores are matched: collision zeros, calibrated ones, the rest checked out of sample."""
-    basis = case["basis"]
-    if all(value == "collision" for value in basis.values()):
-        return "collision"
-    calibrated = [name[0].upper() for name in SCORES if basis[name] == "calibrated"]
-    checked = [name[0].upper() for name in SCORES if basis[name] == "out_of_sample"]
-    parts = [f"{'/'.join(calibrated)} calibrated"] if calibrated else []
-    return ", ".join([*parts, f"{'/'.join(checked)} out of sample"] if checked else parts)
+def _basis_lines(result: dict) -> list[str]:
+    """Which Table II scores are collision zeros, calibrated values and out-of-sample checks, one line each."""
+    from vrusim.paper.cases import BASES
+
+    lines = []
+    for basis, label in BASES.items():
+        runs = []
+        for case in result["cases"]:
+            names = [name[0].upper() for name in SCORES if case["basis"][name] == basis]
+            if names:
+                runs.append(f"{case['title']} V2X {on_off(case['v2x'])} {'/'.join(names)}")
+        lines.append(f"{label.capitalize()}: {'; '.join(runs)}.")
+    return lines
 
 
 def _table_ii(result: dict) -> Table:
@@ -59,7 +63,6 @@ def _table_ii(result: dict) -> Table:
     for name in SCORES:
         table.add_column(name.capitalize(), justify="right")
     table.add_column(f"±{tolerance:.2f}", justify="center")
-    table.add_column("Basis")
     for case in result["cases"]:
         paper, ours = case["paper"], case["ours"]
         colour = "green" if case["outcome_matches"] else "red"
@@ -70,7 +73,6 @@ def _table_ii(result: dict) -> Table:
             f"[{colour}]{_outcome(ours['collided'])}[/]",
             *(_score_cell(paper[name], ours[name], tolerance) for name in SCORES),
             mark(case["scores_within_tolerance"]),
-            _basis(case),
         )
     return table
 
@@ -130,6 +132,8 @@ def paper_command(
         return
     terminal = console()
     terminal.print(_table_ii(result))
+    for line in _basis_lines(result):
+        terminal.print(escape(line))
     terminal.print(_events_table(result))
     if figure_files:
         terminal.print(f"Figures written to {escape(str(figures))}: {', '.join(f.name for f in figure_files)}.")
