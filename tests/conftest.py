@@ -4,25 +4,42 @@ from __future__ import annotations
 
 import copy
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import settings
+from hypothesis import HealthCheck, settings
 
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 
 # Property tests draw their inputs from a fixed seed by default, so CI on a fresh clone (no example database)
 # is reproducible; `HYPOTHESIS_PROFILE=explore python -m pytest` draws fresh random inputs to hunt for new cases.
-settings.register_profile("ci", derandomize=True)
-settings.register_profile("explore", derandomize=False)
+# Both leave out timing checks (as Hypothesis's own CI profile does): the suite runs on parallel workers
+# (pytest-xdist, pyproject.toml) on shared machines, where a slow example is a busy CPU, not a finding.
+_UNTIMED = {"deadline": None, "suppress_health_check": [HealthCheck.too_slow]}
+settings.register_profile("ci", derandomize=True, **_UNTIMED)
+settings.register_profile("explore", derandomize=False, **_UNTIMED)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 # The suite's own test planners are named `module:Class` (tests.warning_planner:WarnOnDetection, ...): the suite
 # allows module planners as a user would (vrusim --allow-module-planners); tests of the refusal unset it.
 os.environ["VRUSIM_ALLOW_MODULE_PLANNERS"] = "1"
+
+# The command-line tests expect the width of a pipe (vrusim.cli.output: 120 columns unless COLUMNS is set);
+# pytest-xdist's workers inherit COLUMNS=80 and LINES=24, which readline writes into the C environment of the
+# main pytest process, and a developer's exported COLUMNS would change the width too. Tests that need a width
+# pass COLUMNS themselves.
+for _name in ("COLUMNS", "LINES"):
+    os.environ.pop(_name, None)
+
+# Numba's parallel kernels run on OpenMP threads, which by default spin at every barrier. Two test workers on two
+# cores (or a CPU shared with other jobs) then make the threaded-kernel tests several times slower while the
+# spinning thread waits for one that is not scheduled; sleeping threads lose nothing when the CPU is free.
+# Set before numba loads its threading layer (on the first parallel call); results do not depend on it.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 PAPER_DIR = REPO_ROOT / "scenarios" / "paper"
@@ -98,3 +115,52 @@ def paper_pedestrian_dict() -> dict[str, Any]:
 def paper_pedestrian(paper_pedestrian_dict) -> dict[str, Any]:
     """A fresh copy of the paper pedestrian-crossing mapping that the test may modify."""
     return copy.deepcopy(paper_pedestrian_dict)
+
+
+# ----------------------------------------------------------------------------------------------- parallel runs
+# pyproject.toml runs the suite on pytest-xdist workers with `--dist loadgroup`, whose scheduler is replaced here:
+# the tests of a file that defines a class-, module- or package-scoped fixture (a simulated batch, a calculator
+# run, a browser) go to one worker together, so each such fixture is computed once rather than once per worker;
+# every other test is handed out on its own. Work is handed out largest unit first (pytest-xdist's default), and
+# a test's `xdist_group` mark still groups it where pytest-xdist honours it (it does not with pytest 9.2:
+# pytest-xdist issue 1386). The scheduler sees only test ids, so it reads the files' text for the scopes.
+
+_SHARED_SCOPE = re.compile(r"""scope\s*=\s*["'](?:class|module|package)["']""")
+
+
+def _shares_fixtures(path: Path) -> bool:
+    """Whether the test file at `path`, or a conftest.py it is under, defines a shared (non-function,
+    non-session) fixture."""
+    folders = [folder for folder in (path.parent, *path.parent.parents) if folder.is_relative_to(REPO_ROOT)]
+    files = [path, *(folder / "conftest.py" for folder in folders)]
+    return any(f.is_file() and _SHARED_SCOPE.search(f.read_text(encoding="utf-8")) for f in files)
+
+
+try:
+    from xdist.scheduler import LoadGroupScheduling
+except ImportError:  # pytest-xdist is not installed: the suite runs in one process
+    pass
+else:
+
+    class _FixtureFileScheduling(LoadGroupScheduling):
+        """`--dist loadgroup`, with the tests of a file that shares fixtures grouped by file."""
+
+        def __init__(self, config: pytest.Config, log=None) -> None:
+            super().__init__(config, log)
+            self._shared: dict[str, bool] = {}
+
+        def _split_scope(self, nodeid: str) -> str:
+            scope = super()._split_scope(nodeid)
+            if scope != nodeid:  # an xdist_group mark
+                return scope
+            file = nodeid.split("::", 1)[0]
+            if file not in self._shared:
+                path = self.config.rootpath / file
+                self._shared[file] = path.suffix == ".py" and _shares_fixtures(path)
+            return file if self._shared[file] else nodeid
+
+    @pytest.hookimpl(tryfirst=True)
+    def pytest_xdist_make_scheduler(config: pytest.Config, log):
+        if config.getvalue("dist") == "loadgroup":
+            return _FixtureFileScheduling(config, log)
+        return None
