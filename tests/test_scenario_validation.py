@@ -238,7 +238,7 @@ def test_file_that_is_not_utf8(tmp_path):
 def test_directory_instead_of_file(tmp_path):
     with pytest.raises(UserInputError) as info:
         load_scenario(tmp_path)
-    assert str(info.value).startswith(f"{tmp_path}: cannot read scenario file")
+    assert str(info.value).startswith(f"{tmp_path}: not a regular file")
 
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root can read any file")
