@@ -7,14 +7,14 @@ absent); the catalogue declares them. Formulas, units and sources: docs/metrics.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from vrusim.metrics.injury_risk import SERIOUS_INJURY_CURVE, risk
 
-if TYPE_CHECKING:
-    from vrusim.metrics.catalog import BatchView
+BatchView = Any
+"""A `vrusim.metrics.catalog.BatchView` (not imported: the catalogue imports this module)."""
 
 __all__ = [
     "delta_v_ego",
