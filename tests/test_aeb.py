@@ -77,7 +77,8 @@ def _observer(scenario):
         estimate[0], estimate[1] = vru_x, vru_y
         obs = Observation(
             state["t"], dt, x, y, hx, hy, np.array([speed]), np.zeros(1), np.array([station]),
-            params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m, params.routes,
+            params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m, 2.0 * params.half_length_m,
+            params.routes,
             params.route_offset, np.ones((1, 1), dtype=bool), np.ones((1, 1), dtype=np.int8), estimate,
             params.vru_radius_m,
         )  # fmt: skip

@@ -37,3 +37,39 @@ def test_fsm_flank_fix_keeps_the_paper_impact():
     assert row["collided"]
     assert abs(row["contact_time_s"] - 5.03) < 0.01
     assert all(t["to"] != "cruise" for t in row["transitions"])
+
+
+def test_conflict_tracker_keeps_a_vru_beside_the_flank_until_it_is_behind_the_rear_bumper(make_scenario):
+    """ConflictTracker (for NumPy planners) applies the same rule. Rear axle at station 10 m of a straight route
+    (4.5 m ego, rear overhang 0.9 m: front bumper 3.6 m ahead of it, rear bumper 0.9 m behind); a VRU of radius
+    r = 0.3 m on the centre line conflicts while its far edge is at or ahead of the rear bumper."""
+    import numpy as np
+
+    from vrusim.planners.conflict import ConflictTracker
+    from vrusim.sim.observation import Observation
+    from vrusim.sim.params import pack
+
+    scenario = make_scenario(
+        {"vrus": [{"type": "pedestrian", "start": [50.0, 10.0], "heading_deg": 90.0, "radius_m": 0.3}]}
+    )
+    params = pack([scenario])
+    ones = np.ones(1)
+
+    def conflict_at(vru_x: float) -> bool:
+        """Whether a VRU `vru_x` m ahead of the rear axle (negative: behind) conflicts."""
+        station = np.array([10.0])
+        x, y, hx, hy, _ = params.routes.locate(params.route_offset, station)
+        estimate = np.zeros((7, 1, 1))
+        estimate[0], estimate[1] = x[0] + vru_x * hx[0], y[0] + vru_x * hy[0]
+        obs = Observation(
+            0.0, 0.01, x, y, hx, hy, np.zeros(1), np.zeros(1), station, params.cruise_speed_mps,
+            params.rear_to_front_m, params.half_width_m, 2.0 * params.half_length_m, params.routes,
+            params.route_offset, np.ones((1, 1), dtype=bool), np.ones((1, 1), dtype=np.int8), estimate,
+            params.vru_radius_m,
+        )  # fmt: skip
+        tracker = ConflictTracker(horizon_s=5.0 * ones, margin_m=0.0 * ones, memory_s=0.0 * ones)
+        return bool(tracker.analyse(obs).conflict[0, 0])
+
+    assert conflict_at(2.0)  # beside the flank: behind the front bumper, ahead of the rear one
+    assert conflict_at(-1.15)  # far edge -0.85 m: still just ahead of the rear bumper
+    assert not conflict_at(-1.25)  # far edge -0.95 m: clear of the swept footprint

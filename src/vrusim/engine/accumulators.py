@@ -84,8 +84,8 @@ SURROGATE_START = len(ACCUMULATORS)
 """First row of the surrogate safety measures (`engine.surrogates.SURROGATE_ROWS`), which follow."""
 ACCUMULATORS += tuple(Accumulator(*row) for row in SURROGATE_ROWS)
 FIELDS = tuple(row.name for row in ACCUMULATORS)
-_PER_VRU_INDEX = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 """Accumulator rows; `sum_*` are integrals over time (m^2/s^3, m^2/s^5), the rest as their unit says."""
+_PER_VRU_INDEX = {name: index for index, name in enumerate(PER_VRU_FIELDS)}
 _I = {name: index for index, name in enumerate(FIELDS)}
 # Row indices for the compiled kernels (module constants, so numba folds them in).
 PEAK_A = _I["peak_accel_mps2"]

@@ -98,6 +98,7 @@ def _scratch(params: BatchParams, ego: EgoState, driver, door) -> _Scratch:
         _read_only(a)
         for a in (ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.station_m)
     ] + [_read_only(a) for a in (params.cruise_speed_mps, params.rear_to_front_m, params.half_width_m)]
+    ego_view.append(_read_only(2.0 * params.half_length_m))  # Observation.ego_length_m
     shape = params.vru_valid.shape
     return _Scratch(
         ego_view,

@@ -216,6 +216,7 @@ class ConflictTracker:
             obs.route_offset,
             obs.t_s,
             obs.ego_station_m + obs.rear_to_front_m,
+            obs.ego_length_m,
             obs.half_width_m,
             obs.vru_radius_m,
             self.margin_m,
@@ -244,6 +245,7 @@ def _analyse_batch(
     offsets,
     t,
     front_station,
+    ego_length,
     half_width,
     radius,
     margin,
@@ -270,7 +272,7 @@ def _analyse_batch(
                 tracks[b, k],
                 station[b, k],
                 front_station[b],
-                front_station[b],  # no ego length in an Observation: tracked to the front bumper, as before
+                front_station[b] - ego_length[b],  # tracked until clear of the rear bumper
                 half_width[b],
                 radius[b, k],
                 margin[b],

@@ -73,7 +73,6 @@ class FsmPlanner(PlannerBase):
         per_variant = planner_params(params)
         self.table = np.array([[getattr(p, name) for name in PARAM_ORDER] for p in per_variant])
         self.zone_length = 2.0 * params.half_length_m + 2.0 * params.half_width_m
-        self.ego_length = 2.0 * params.half_length_m
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.tracks: np.ndarray | None = None
         self.station: np.ndarray | None = None
@@ -97,7 +96,7 @@ class FsmPlanner(PlannerBase):
             obs.cruise_speed_mps,
             obs.half_width_m,
             self.zone_length,
-            self.ego_length,
+            obs.ego_length_m,
             obs.detected,
             obs.vru_estimate,
             obs.vru_radius_m,

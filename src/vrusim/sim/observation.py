@@ -38,6 +38,8 @@ class Observation:
     cruise_speed_mps: np.ndarray
     rear_to_front_m: np.ndarray
     half_width_m: np.ndarray
+    ego_length_m: np.ndarray
+    """[B] the ego's length, m: its rear bumper is `ego_length_m - rear_to_front_m` behind the rear axle."""
     routes: PathTable
     route_offset: np.ndarray
     # detections
