@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import subprocess
 import sys
 
 import pyarrow.parquet as pq
@@ -95,3 +96,21 @@ def test_list_shows_the_2026_edition_with_its_ranges():
     assert {"CPNA", "CBDA", "CMCscp", "CPMFC"} <= codes
     text = invoke("list").stdout
     assert "2026" in text or "Crash Avoidance" in text
+
+
+def test_the_terminal_scorecard_does_not_import_matplotlib():
+    """Start-up time: the terminal path of `vrusim ncap` (both editions) never imports matplotlib (~0.3 s); only
+    --out (scorecard.png) and --report draw figures."""
+    code = (
+        "import sys\n"
+        "from vrusim.cli.app import main\n"
+        "for protocol in ('2026', '2023'):\n"
+        "    try:\n"
+        "        main(['ncap', '--protocol', protocol, '--scenario', 'CPNA', '--planner', 'none'])\n"
+        "    except SystemExit as exit:\n"
+        "        assert not exit.code, exit.code\n"
+        "print('matplotlib' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    assert "CPNA" in done.stdout and "points" in done.stdout.lower()
+    assert done.stdout.strip().splitlines()[-1] == "False"

@@ -37,7 +37,8 @@ from vrusim.ncap.scoring import (
     SCENARIO_POINTS,
     SUB_SCORES,
 )
-from vrusim.viz.scorecard import scorecard_figure, scorecard_renderables, write_scorecard_png
+from vrusim.viz.scorecard import scorecard_figure, write_scorecard_png
+from vrusim.viz.scorecard_terminal import scorecard_renderables
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "euroncap_scoring.md"
 

@@ -29,15 +29,9 @@ from vrusim.ncap.verification import monte_carlo
 from vrusim.report.ncap2026 import ncap_2026_report
 from vrusim.report.page import RESULTS_ID, render
 from vrusim.report.sources import build_report
-from vrusim.viz.scorecard import COLOUR_HEX
-from vrusim.viz.scorecard2026 import (
-    EXTENDED_SUFFIX,
-    grid_table,
-    scorecard_2026_figure,
-    scorecard_2026_renderables,
-    sub_element_grids,
-    write_scorecard_2026_png,
-)
+from vrusim.viz.ncap_colours import COLOUR_HEX
+from vrusim.viz.scorecard2026 import EXTENDED_SUFFIX, scorecard_2026_figure, write_scorecard_2026_png
+from vrusim.viz.scorecard2026_terminal import grid_table, scorecard_2026_renderables, sub_element_grids
 
 SPEEDS = (10, 20, 30, 40, 50, 60)
 LOCATIONS = (0.9, 0.75, 0.5, 0.25, 0.1)

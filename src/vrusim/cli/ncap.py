@@ -232,7 +232,7 @@ def _ncap_2023(
             }
         )
         return
-    from vrusim.viz.scorecard import scorecard_renderables
+    from vrusim.viz.scorecard_terminal import scorecard_renderables
 
     terminal = console()
     for renderable in scorecard_renderables(assessment):

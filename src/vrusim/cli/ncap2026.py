@@ -128,7 +128,7 @@ def print_2026(
             }
         )
         return
-    from vrusim.viz.scorecard2026 import scorecard_2026_renderables
+    from vrusim.viz.scorecard2026_terminal import scorecard_2026_renderables
 
     terminal = console()
     for renderable in scorecard_2026_renderables(rated.assessment, verification):

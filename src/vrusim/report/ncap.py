@@ -12,16 +12,9 @@ from vrusim.report import figures
 from vrusim.report.html import Column, Html, cell, facts, filter_box, join, table, tag
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import metric_column
-from vrusim.viz.scorecard import (
-    CAPTION,
-    COLOUR_HEX,
-    GROUP_TITLES,
-    cell_text,
-    group_grid,
-    panel_title,
-    row_label,
-    scorecard_figure,
-)
+from vrusim.viz.ncap_colours import COLOUR_HEX
+from vrusim.viz.scorecard import scorecard_figure
+from vrusim.viz.scorecard_cells import CAPTION, GROUP_TITLES, cell_text, group_grid, panel_title, row_label
 
 TEST_COLUMNS = (
     Column("scenario", "Scenario"),

@@ -20,14 +20,14 @@ from vrusim.report import figures
 from vrusim.report.html import Column, Html, cell, facts, filter_box, join, table, tag
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import metric_column
-from vrusim.viz.scorecard import COLOUR_HEX
-from vrusim.viz.scorecard2026 import (
+from vrusim.viz.ncap_colours import COLOUR_HEX
+from vrusim.viz.scorecard2026 import scorecard_2026_figure
+from vrusim.viz.scorecard2026_cells import (
     AXIS_TITLES,
     grid_cells,
     kpi_text,
     panels,
     scenario_max_points,
-    scorecard_2026_figure,
     sub_element_max_points,
 )
 
