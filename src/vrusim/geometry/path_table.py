@@ -47,19 +47,31 @@ class PathTable:
         seg = np.diff(table[:, :, :2], axis=1, append=table[:, -1:, :2] + table[:, -1:, 2:4] * spacing_m)
         seg /= np.linalg.norm(seg, axis=2, keepdims=True)
         self._tangent = np.ascontiguousarray(seg.reshape(-1, 2))
+        # largest heading change between consecutive segments of each row's own samples, rad
+        turn = np.zeros(len(samples))
+        for row, count in enumerate(counts):
+            a, b = seg[row, : count - 2], seg[row, 1 : count - 1]
+            if len(a):
+                turn[row] = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], (a * b).sum(axis=1))).max()
+        self._max_turn = np.repeat(np.where(np.isfinite(turn), turn, np.pi), width)  # degenerate rows: any turn
         self.samples = table
 
     @property
     def arrays(self) -> tuple:
-        """(x, y, segment unit tangents, curvature, last sample index, 1 / spacing, width) for compiled kernels.
+        """(x, y, segment unit tangents, curvature, last sample index, 1 / spacing, width, largest turn) for
+        compiled kernels.
 
         Every array but the tangents [rows x width, 2] is flat [rows x width]: entry `offset + j` is sample j of
-        the row starting at `offset`; the last sample index is the row's, repeated along it.
+        the row starting at `offset`; the last sample index and the largest turn (rad: heading change between
+        consecutive segments, the bound `planners.route_ttc` skips samples by) are the row's, repeated along it.
 
         Beyond a path's last sample, evaluation extends its own last segment (never the padding), so a path
         gives bit-identical results whatever else shares the table.
         """
-        return self._x, self._y, self._tangent, self._kappa, self._last, 1.0 / self.spacing_m, self.width
+        return (
+            self._x, self._y, self._tangent, self._kappa, self._last, 1.0 / self.spacing_m, self.width,
+            self._max_turn,
+        )  # fmt: skip
 
     def locate(self, row_offset: np.ndarray, station_m: np.ndarray):
         """Return (x, y, unit tangent x, unit tangent y, curvature) at `station_m` of each path.
@@ -77,7 +89,7 @@ def locate_point(path, offset, station):  # pragma: no cover
 
     `path` is `PathTable.arrays`; `offset` is the path's row times the table width.
     """
-    xs, ys, tangents, kappas, last, inv_spacing, _ = path
+    xs, ys, tangents, kappas, last, inv_spacing, _, _ = path
     scaled = station * inv_spacing
     j = min(max(math.floor(scaled), 0), last[offset] - 1)
     flat = offset + j
@@ -120,7 +132,7 @@ def nearest_station(path, offset, px, py):  # pragma: no cover (compiled)
     sample; the nearest wins. Nothing moves backwards along a path, so the part before its start is never a
     candidate. Refine with `project_point`.
     """
-    xs, ys, tangents, _, lasts, inv_spacing, _ = path
+    xs, ys, tangents, _, lasts, inv_spacing, _, _ = path
     last = lasts[offset]
     best, best_s = np.inf, 0.0
     for j in range(last + 1):
