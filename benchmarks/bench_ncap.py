@@ -92,13 +92,8 @@ def main() -> None:
     args = parser.parse_args()
     if args.cli:
         wall = measure_cli(args.planner, args.protocol, args.cli)
-        print(
-            json.dumps(wall)
-            if args.json
-            else (
-                f"{wall['command']}: {wall['runs']} processes, fastest {wall['min_s']:.2f} s, median {wall['median_s']:.2f} s"
-            )
-        )
+        text = f"{wall['command']}: {wall['runs']} processes, fastest {wall['min_s']:.2f} s, "
+        print(json.dumps(wall) if args.json else f"{text}median {wall['median_s']:.2f} s")
         return
     figures = [measure(args.planner, v2x, args.repeats, args.protocol) for v2x in (False, True)]
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
