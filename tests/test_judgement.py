@@ -150,3 +150,17 @@ def test_incomplete_run_efficiency_never_improves_with_the_time_limit():
     efficiency = [r["efficiency"] for r in rows]
     assert all(a >= b for a, b in pairwise(efficiency))
     assert all(math.isfinite(r["trip_time_s"]) for r in rows)
+
+
+def test_results_say_stalled_and_incomplete_not_avoided():
+    """`vrusim.run` results, the paper table and the snapshot figure name the outcome; a stalled or unfinished
+    run is not reported as "avoided"."""
+    import vrusim
+    from vrusim.metrics.outcome import outcome_counts, outcome_of
+
+    stalled = vrusim.run(STALLED_FILE)
+    assert "stalled" in repr(stalled) and "avoided" not in repr(stalled)
+    rows = [{"outcome": o, "collided": o == "collision"} for o in ("collision", "stalled", "collision", "avoided")]
+    assert outcome_counts(rows) == "2 collisions, 1 avoided, 1 stalled"
+    assert outcome_of({"collided": True}) == "collision"  # rows saved before outcomes existed
+    assert outcome_of({"collided": False}) == "avoided"

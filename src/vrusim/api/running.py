@@ -11,6 +11,7 @@ from vrusim.api.settings import check_planner
 from vrusim.api.tables import SUMMARY_TYPES, arrow_table, html_table, pandas_frame
 from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.errors import UserInputError
+from vrusim.metrics.outcome import outcome_counts, outcome_of
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.schema import Scenario
 from vrusim.scenario.settings import V2XSetting, with_settings
@@ -105,17 +106,14 @@ class Results:
         return trace_table(where.run, where.variant)
 
     def __repr__(self) -> str:
-        collisions = sum(row["collided"] for row in self.rows)
         planners = ", ".join(dict.fromkeys(row["planner"] for row in self.rows))
         if len(self) == 1:
             row = self.rows[0]
-            outcome = f"collision at {row['contact_time_s']:.2f} s" if row["collided"] else "avoided"
+            outcome = f"collision at {row['contact_time_s']:.2f} s" if row["collided"] else outcome_of(row)
             scores = ", ".join(f"{name} {row[name]:.2f}" for name in ("safety", "efficiency", "comfort"))
             v2x = "on" if row["v2x"] else "off"
             return f"Results({row['scenario']}: {outcome}; planner {planners}, V2X {v2x}; {scores})"
-        avoided = len(self) - collisions
-        plural = "" if collisions == 1 else "s"
-        return f"Results({len(self)} runs: {collisions} collision{plural}, {avoided} avoided; planner {planners})"
+        return f"Results({len(self)} runs: {outcome_counts(self.rows)}; planner {planners})"
 
     def _repr_html_(self) -> str:
         return html_table(self.rows, KEY_COLUMNS, repr(self))

@@ -14,6 +14,7 @@ from vrusim.cli.figures import check_figures_dir, write_paper_figures
 from vrusim.cli.options import JsonOption, ReportOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.cli.report import check_report_option, write_report_option
+from vrusim.metrics.outcome import outcome_of
 
 SCORES = ("safety", "efficiency", "comfort")
 
@@ -70,7 +71,7 @@ def _table_ii(result: dict) -> Table:
             escape(case["title"]),
             on_off(case["v2x"]),
             _outcome(paper["collision"]),
-            f"[{colour}]{_outcome(ours['collided'])}[/]",
+            f"[{colour}]{outcome_of(ours)}[/]",
             *(_score_cell(paper[name], ours[name], tolerance) for name in SCORES),
             mark(case["scores_within_tolerance"]),
         )

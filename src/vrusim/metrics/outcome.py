@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["OUTCOMES", "STANDSTILL_MPS", "outcomes"]
+__all__ = ["OUTCOMES", "STANDSTILL_MPS", "outcome_counts", "outcome_of", "outcomes"]
 
 OUTCOMES = ("collision", "avoided", "stalled", "incomplete")
 """Every outcome, in the order above."""
@@ -27,3 +27,20 @@ def outcomes(
     standing = np.abs(np.asarray(final_speed_mps)) <= STANDSTILL_MPS
     out = np.where(finished, "avoided", np.where(standing, "stalled", "incomplete"))
     return np.where(np.asarray(collided, dtype=bool), "collision", out).astype(object)
+
+
+def outcome_of(row: dict) -> str:
+    """The outcome of a summary row; rows written before outcomes existed (no `outcome` key) read collision or
+    avoided from `collided`."""
+    return row.get("outcome") or ("collision" if row["collided"] else "avoided")
+
+
+def outcome_counts(rows: list[dict]) -> str:
+    """ "2 collisions, 1 avoided, 1 stalled": the count of each outcome that occurs, in `OUTCOMES` order."""
+    found = [outcome_of(row) for row in rows]
+    parts = []
+    for name in OUTCOMES:
+        count = found.count(name)
+        if count:
+            parts.append(f"{count} {name}{'s' if name == 'collision' and count != 1 else ''}")
+    return ", ".join(parts)

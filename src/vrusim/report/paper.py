@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from vrusim.metrics.outcome import outcome_of
 from vrusim.paper.cases import paper_scenarios, reproduce, scenario_dir
 from vrusim.report.html import Column, Html, facts, join, table, tag
 from vrusim.report.page import Report, Section
@@ -35,7 +36,7 @@ def table_ii(result: dict[str, Any]) -> Html:
             "title": case["title"],
             "v2x": "on" if case["v2x"] else "off",
             "outcome_paper": _outcome(paper["collision"]),
-            "outcome_ours": _outcome(ours["collided"]),
+            "outcome_ours": outcome_of(ours),
         }
         classes[(key, "outcome_ours")] = "good" if case["outcome_matches"] else "bad"
         for name in SCORES:

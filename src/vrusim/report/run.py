@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from vrusim.metrics.outcome import outcome_of
 from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
 from vrusim.report.page import Report, Section
@@ -68,7 +69,7 @@ def run_report(
     scenario = apply_planner_and_seed(scenario_of(str(source), v2x, option="--v2x"), planner, seed)
     recording = record([scenario])[0]
     row = recording.summary
-    outcome = row.get("outcome") or ("collision" if row["collided"] else "avoided")
+    outcome = outcome_of(row)
     sections = [
         Section("what-was-run", "What was run", facts(what_was_run(scenario, row, file), "run-facts")),
         Section(

@@ -11,6 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure, SubFigure
 
+from vrusim.metrics.outcome import outcome_of
 from vrusim.viz.recording import Recording
 from vrusim.viz.scene import SceneArtists, legend_handles, view_window
 from vrusim.viz.style import recording_labels
@@ -90,16 +91,12 @@ def draw_snapshots(
             if col > 0:
                 ax.set_ylabel("")
             else:
-                ax.set_ylabel(f"{label}: {_outcome(recording)}\ny (m)", fontsize=9)
+                ax.set_ylabel(f"{label}: {outcome_of(recording.summary)}\ny (m)", fontsize=9)
             shown.append(ax)
     fig.suptitle(_title(recordings), fontsize=10, fontweight="bold")
     handles, names = legend_handles(recordings)
     fig.legend(handles, names, loc="outside lower center", ncol=min(len(handles), 7), fontsize=8, frameon=False)
     return shown
-
-
-def _outcome(recording: Recording) -> str:
-    return "collision" if recording.summary.get("collided") else "avoided"
 
 
 def _title(recordings: Sequence[Recording]) -> str:
