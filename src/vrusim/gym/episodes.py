@@ -16,7 +16,8 @@ from vrusim.sim.params import BatchParams
 
 
 def summary_columns() -> tuple[str, ...]:
-    """Result columns reported in `info["metrics"]` when an episode ends: `collided`, the float measures, every
+    """Result columns reported in `info["metrics"]` when an episode ends: `collided`, `outcome` (collision, avoided,
+    stalled or incomplete), the float measures, every
     bool or numeric measure a plug-in registered (`vrusim.register_metric`), then the scores. A per-VRU measure
     (`min_ttc_per_vru_s`) adds its columns per VRU slot (`min_ttc_vru<k>_s`) besides these."""
     measures = [
@@ -26,7 +27,7 @@ def summary_columns() -> tuple[str, ...]:
         and m.split is None
         and (m.dtype == "float64" or (m.dtype != "string" and not is_builtin(m.name)))
     ]
-    return ("collided", *measures, *(m.name for m in metrics() if m.group == "score"))
+    return ("collided", "outcome", *measures, *(m.name for m in metrics() if m.group == "score"))
 
 
 SUMMARY_COLUMNS = summary_columns()
@@ -75,10 +76,13 @@ class EpisodeBatch:
         return self._observe(), reward, outcome.terminated, outcome.truncated
 
     def summary(self, b: int) -> dict[str, Any]:
-        """Result columns of variant b after its episode ended (floats; NaN: absent)."""
+        """Result columns of variant b after its episode ended (floats, NaN: absent; `collided` a bool, `outcome` a
+        string)."""
         assert self.columns is not None
         return {name: _scalar(self.columns[name][b]) for name in (*summary_columns(), *self.vru_columns)}
 
 
 def _scalar(value: Any) -> Any:
+    if isinstance(value, str):
+        return value
     return bool(value) if isinstance(value, np.bool_ | bool) else float(value)
