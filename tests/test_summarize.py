@@ -79,7 +79,7 @@ def synthetic_chunks(n_chunks: int = 3, rows: int = 40, seed: int = 1) -> list[d
                 SPEED: speed,
                 WALK: walk,
                 LATENCY: _nullable(latency, rng.random(rows) > 0.2),
-                "outcome": np.where(collided, "collision", "avoided"),
+                "outcome": np.where(collided, "collision", rng.choice(["avoided", "stalled", "incomplete"], rows)),
                 "collided": collided,
                 "min_ttc_s": _nullable(rng.uniform(0.0, 4.0, rows), ~collided),
                 "impact_ego_speed_mps": _nullable(rng.uniform(0.0, 10.0, rows), collided),
@@ -148,9 +148,12 @@ def assert_stats(actual: dict, expected: dict) -> None:
             assert actual[name] == pytest.approx(expected[name], rel=1e-9, abs=1e-12), name
 
 
-def assert_outcome(group: dict, collided: np.ndarray) -> None:
+def assert_outcome(group: dict, collided: np.ndarray, outcome: np.ndarray | None = None) -> None:
     runs, collisions = int(collided.size), int(collided.sum())
     assert (group["runs"], group["collisions"]) == (runs, collisions)
+    if outcome is not None:
+        assert group["stalled"] == int((outcome == "stalled").sum()) > 0
+        assert group["incomplete"] == int((outcome == "incomplete").sum()) > 0
     assert group["collision_probability"] == pytest.approx(collisions / runs)
     assert group["collision_probability_95"] == pytest.approx(wilson_by_quadratic(collisions, runs), abs=1e-9)
 
@@ -173,7 +176,7 @@ def test_overall_numbers_equal_numpy(results):
     assert summary["chunks"] == {"found": 3, "expected": 3, "partial": False}
     assert summary["status"] == "3 of 3 chunks"
     assert summary["groups"] == []
-    assert_outcome(summary["overall"], data["collided"])
+    assert_outcome(summary["overall"], data["collided"], data["outcome"])
     for metric in METRICS:
         assert_stats(summary["overall"]["metrics"][metric], expected_stats(data[metric].astype(float)))
 
@@ -523,4 +526,18 @@ def test_two_long_grouping_parameters_fit_80_columns(tmp_path):
     assert "p95" in result.output and "widen the terminal" not in result.output
     narrow = CliRunner().invoke(app, ["summarize", str(directory), "--by", by, "--bins", "3"], env={"COLUMNS": "64"})
     assert "p5 and p95: widen the terminal, or --json" in narrow.output and "…" not in narrow.output
+    assert "Stalled /" in result.output and "widen the terminal" not in result.output.split("Collisions")[0]
+    assert "stalled / incomplete runs: widen the terminal, or --json" in narrow.output
     assert max(len(line) for line in narrow.output.splitlines()) <= 64
+
+
+def test_results_without_an_outcome_column_summarise_without_stall_counts(tmp_path):
+    """Sweeps written before outcomes existed have no `outcome` column: stalled and incomplete are None (null in
+    JSON, "–" in the table), the rest as before."""
+    chunks = synthetic_chunks(n_chunks=1)
+    for chunk in chunks:
+        del chunk["outcome"]
+    directory = write_results(tmp_path / "old", chunks, [SPEED, WALK, LATENCY])
+    overall = summarize(directory)["overall"]
+    assert overall["stalled"] is None and overall["incomplete"] is None
+    assert_outcome(overall, frame(chunks)["collided"])

@@ -86,23 +86,36 @@ def _key_cells(key: dict[str, Any], by: list[dict[str, Any]]) -> list[str]:
     return texts if len(by) < 2 else ["\n".join(f"{i}: {text}" for i, text in enumerate(texts, start=1))]
 
 
-def outcome_table(summary: dict[str, Any]) -> Table:
-    """Runs, collisions, P(collision) and its Wilson 95 % interval: one row per group (or overall)."""
+def outcome_table(summary: dict[str, Any], terminal: Console | None = None) -> Table:
+    """Runs, collisions, P(collision) and its Wilson 95 % interval, stalled / incomplete runs: one row per group
+    (or overall). Too wide for `terminal` even when fitted, it leaves out the stalled / incomplete column (and
+    says so)."""
+    table = _outcome_table(summary, stalls=True)
+    if terminal is not None and natural_width(fit_table(table, terminal), terminal) > terminal.width:
+        table = _outcome_table(summary, stalls=False)
+        table.caption = "stalled / incomplete runs: widen the terminal, or --json"
+        table.caption_justify = "left"
+    return table
+
+
+def _outcome_table(summary: dict[str, Any], stalls: bool) -> Table:
     table = Table(title="Collisions (Wilson 95 % interval)", box=box.SIMPLE_HEAD, title_justify="left")
     _add_key_columns(table, summary["by"])
-    for name in ("Runs", "Collisions", "P(collision)", "95 % interval"):
+    titles = ("Runs", "Collisions", "P(collision)", "95 % interval", *(("Stalled /\nincomplete",) if stalls else ()))
+    for name in titles:
         table.add_column(name, justify="right", no_wrap=True)
     rows = summary["groups"] if summary["by"] else [summary["overall"]]
     for row in rows:
         low, high = row["collision_probability_95"]
-        probability = row["collision_probability"]
         style = "red" if row["collisions"] else "green"
+        stalled = "–" if row.get("stalled") is None else f"{row['stalled']} / {row['incomplete']}"
         table.add_row(
             *_key_cells(row.get("key", {}), summary["by"]),
             str(row["runs"]),
             f"[{style}]{row['collisions']}[/]",
-            _num(probability),
+            _num(row["collision_probability"]),
             f"{low:.3f}–{high:.3f}",
+            *((stalled,) if stalls else ()),
         )
     return table
 
@@ -225,7 +238,7 @@ def summarize_command(
     title = summary["name"] or results.name
     colour = "yellow" if summary["chunks"]["partial"] else "green"
     out.print(f"[bold]{escape(str(title))}[/]: {summary['overall']['runs']} runs from [{colour}]{summary['status']}[/]")
-    out.print(outcome_table(summary))
+    out.print(outcome_table(summary, out))
     for table in metric_tables(summary, out):
         out.print(table)
     if plot is not None:

@@ -23,14 +23,16 @@ OUTCOME_COLUMNS = (
     Column("p", "P(collision)", 3),
     Column("p_low", "95 % low", 3),
     Column("p_high", "95 % high", 3),
+    Column("stalled", "Stalled"),
+    Column("incomplete", "Incomplete"),
 )
-"""Outcome columns of the collision tables (Wilson 95 % interval)."""
+"""Outcome columns of the collision tables (Wilson 95 % interval; stalled and incomplete runs)."""
 GROUPABLE_TYPES = ("BOOLEAN", "VARCHAR")
 """Non-numeric DuckDB column types a report groups by (numbers always)."""
 
 
 def outcome_values(group: dict[str, Any]) -> dict[str, Any]:
-    """runs, collisions, p, p_low, p_high of a summary group (or the overall summary)."""
+    """runs, collisions, p, p_low, p_high, stalled, incomplete of a summary group (or the overall summary)."""
     low, high = group["collision_probability_95"]
     return {
         "runs": group["runs"],
@@ -38,6 +40,8 @@ def outcome_values(group: dict[str, Any]) -> dict[str, Any]:
         "p": group["collision_probability"],
         "p_low": low,
         "p_high": high,
+        "stalled": group["stalled"],
+        "incomplete": group["incomplete"],
     }
 
 

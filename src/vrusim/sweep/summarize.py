@@ -220,19 +220,30 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def _outcome_fields(runs: int, collisions: int) -> dict[str, Any]:
+OUTCOME_COUNTS = 4
+"""Leading aggregates of `_aggregates`: runs, collisions, stalled, incomplete."""
+
+
+def _outcome_fields(runs: int, collisions: int, stalled: int | None, incomplete: int | None) -> dict[str, Any]:
+    """Runs, collisions, P(collision) and its Wilson 95 % interval; the stalled and incomplete runs (None in
+    results written before outcomes existed)."""
     low, high = wilson_interval(collisions, runs)
     return {
         "runs": runs,
         "collisions": collisions,
         "collision_probability": collisions / runs if runs else None,
         "collision_probability_95": [low, high],
+        "stalled": stalled,
+        "incomplete": incomplete,
     }
 
 
-def _aggregates(metrics: Sequence[str]) -> str:
-    """SELECT list: runs, collisions, then six aggregates per metric (count, mean, std, min, quantiles, max)."""
+def _aggregates(metrics: Sequence[str], has_outcome: bool) -> str:
+    """SELECT list: runs, collisions, stalled and incomplete runs (NULL without an `outcome` column), then six
+    aggregates per metric (count, mean, std, min, quantiles, max)."""
     parts = ["count(*)", f"count(*) FILTER (WHERE {quote(OUTCOME_COLUMN)})"]
+    for outcome in ("stalled", "incomplete"):
+        parts.append(f"count(*) FILTER (WHERE {quote('outcome')} = '{outcome}')" if has_outcome else "NULL")
     quantiles = ", ".join(repr(q) for q in QUANTILES)
     for name in metrics:
         value = f"CAST({quote(name)} AS DOUBLE)"
@@ -330,7 +341,7 @@ def summarize(
                 results.check_metric(name) for name in dict.fromkeys([metrics] if isinstance(metrics, str) else metrics)
             ]
         described = _describe_groups(con, results, by, bins)
-        select = _aggregates(chosen)
+        select = _aggregates(chosen, "outcome" in results.columns)
         overall = _run(con, f"SELECT {select} FROM {_source()}", results.chunk_files, results.directory)[0]
         groups = []
         if by:
@@ -346,8 +357,8 @@ def summarize(
                 groups.append(
                     {
                         "key": {d["name"]: _key(d, v) for d, v in zip(described, key, strict=True)},
-                        **_outcome_fields(values[0], values[1]),
-                        "metrics": _metric_fields(chosen, values[2:]),
+                        **_outcome_fields(*values[:OUTCOME_COUNTS]),
+                        "metrics": _metric_fields(chosen, values[OUTCOME_COUNTS:]),
                     }
                 )
     finally:
@@ -364,6 +375,9 @@ def summarize(
         "bins": bins,
         "by": described,
         "metrics": chosen,
-        "overall": {**_outcome_fields(overall[0], overall[1]), "metrics": _metric_fields(chosen, overall[2:])},
+        "overall": {
+            **_outcome_fields(*overall[:OUTCOME_COUNTS]),
+            "metrics": _metric_fields(chosen, overall[OUTCOME_COUNTS:]),
+        },
         "groups": groups,
     }
