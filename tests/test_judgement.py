@@ -53,6 +53,52 @@ def test_paper_ttc_profile_keeps_the_old_formula():
     assert _never_braking_pass("paper-ttc")["safety"] == 1.0
 
 
+def _never_braking_pass_with(**settings: float) -> dict:
+    data = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").with_v2x(False).model_dump()
+    data["planner"] = {"name": "none"}
+    data["metrics"].update(settings)
+    return _run(data)
+
+
+def test_safety_thresholds_can_be_set_per_scenario():
+    """`metrics.safety_clearance_threshold_m` / `safety_ttc_threshold_s` replace the profile's thresholds: the
+    0.5727 m pass keeps safety 1 under a 0.5 m threshold, scores 0.5727 / 2.5 under 2.5 m, and a TTC-only profile
+    gains the proximity term."""
+    assert _never_braking_pass_with(safety_clearance_threshold_m=0.5)["safety"] == 1.0
+    assert _never_braking_pass_with(safety_clearance_threshold_m=2.5)["safety"] == pytest.approx(0.5727 / 2.5, abs=1e-4)
+    assert _never_braking_pass_with(profile="paper-ttc", safety_clearance_threshold_m=1.5)["safety"] == pytest.approx(
+        0.3818, abs=1e-4
+    )
+    braking = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").with_v2x(True).model_dump()
+    braking["metrics"]["profile"] = "paper-ttc"  # TTC term alone: min(TTC / threshold, 1)
+    assert _run(braking)["safety"] == 1.0  # min TTC 1.87 s above the profile's 1.5 s
+    braking["metrics"]["safety_ttc_threshold_s"] = 3.0
+    base = _run(braking)
+    assert base["outcome"] == "avoided" and base["min_ttc_s"] == pytest.approx(1.869, abs=1e-3)
+    assert base["safety"] == pytest.approx(base["min_ttc_s"] / 3.0, abs=5e-4)  # scores are rounded to 0.001
+    braking["metrics"]["safety_ttc_threshold_s"] = base["min_ttc_s"]
+    relaxed = _run(braking)
+    assert relaxed["safety"] == 1.0
+    assert (relaxed["efficiency"], relaxed["comfort"]) == (base["efficiency"], base["comfort"])
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("safety_clearance_threshold_m", 3.5, "less than or equal to 3"),
+        ("safety_clearance_threshold_m", 0.0, "greater than 0"),
+        ("safety_ttc_threshold_s", -1.0, "greater than 0"),
+    ],
+)
+def test_bad_safety_thresholds_name_the_field(field, value, message):
+    from vrusim.errors import UserInputError
+
+    data = load_scenario(scenario_dir() / "pedestrian_crossing.yaml").model_dump()
+    data["metrics"][field] = value
+    with pytest.raises((UserInputError, ValueError), match=rf"metrics\.{field}.*{message}|{message}"):
+        Scenario.model_validate(data)
+
+
 def test_safety_terms_by_hand():
     assert ttc_term(np.array([0.75, np.inf, -1.0]), 1.5).tolist() == [0.5, 1.0, 0.0]
     assert proximity_term(np.array([0.6, 3.0, -0.1, np.inf]), 1.5).tolist() == pytest.approx([0.4, 1.0, 0.0, 1.0])

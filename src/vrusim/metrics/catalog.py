@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -373,16 +373,17 @@ def score_profile_names(view: BatchView) -> list[str]:
 
 
 def _scores(view: BatchView) -> dict[str, np.ndarray]:
-    per_profile: dict[str, list[int]] = {}
+    per_profile: dict[tuple, list[int]] = {}
     for b, name in enumerate(score_profile_names(view)):
-        per_profile.setdefault(name, []).append(b)
+        overrides = tuple(sorted(view.params.score_overrides[b].items()))
+        per_profile.setdefault((name, overrides), []).append(b)
     out = {name: np.zeros(view.size) for name in ("safety", "efficiency", "comfort")}
     inputs = ("collided", "min_ttc_s", "trip_time_s", "free_travel_time_s", "rms_accel_mps2", "rms_jerk_mps3")
     stalled, clearance = view["outcome"] == "stalled", view["min_clearance_m"]
-    for name, members in per_profile.items():
+    for (name, overrides), members in per_profile.items():
         idx = np.array(members)
         extra = {"min_clearance_m": clearance[idx], "stalled": stalled[idx]}
-        result = scores(*(view[i][idx] for i in inputs), profile(name), **extra)
+        result = scores(*(view[i][idx] for i in inputs), replace(profile(name), **dict(overrides)), **extra)
         for score, values in out.items():
             values[idx] = result[score]
     return out

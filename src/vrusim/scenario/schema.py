@@ -14,6 +14,7 @@ from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model
 from vrusim.scenario.door import Door
 from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
+from vrusim.scenario.score_profiles import MAX_CLEARANCE_THRESHOLD_M
 from vrusim.scenario.strict import StrictModel, the_one_given
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_masses import EGO_MASS, VRU_MASS
@@ -406,6 +407,23 @@ class MetricsSettings(StrictModel):
     injury_risk_curve: Literal["rosen_sander_2009", "tefft_2013"] = Field(
         "rosen_sander_2009", description="fatality risk curve (docs/metrics.md, Injury risk)"
     )
+    safety_ttc_threshold_s: float | None = Field(
+        None, gt=0, le=10, description="TTC threshold of the safety score, s; null: the profile's"
+    )
+    safety_clearance_threshold_m: float | None = Field(
+        None,
+        gt=0,
+        le=MAX_CLEARANCE_THRESHOLD_M,
+        description="clearance threshold of the safety score's proximity term, m; null: the profile's",
+    )
+
+    def score_overrides(self) -> dict[str, float]:
+        """The safety thresholds set here, as `ScoreProfile` fields (empty: the profile as it is)."""
+        chosen = {
+            "ttc_threshold_s": self.safety_ttc_threshold_s,
+            "clearance_threshold_m": self.safety_clearance_threshold_m,
+        }
+        return {name: value for name, value in chosen.items() if value is not None}
 
     @field_validator("profile")
     @classmethod

@@ -49,6 +49,8 @@ class BatchParams:
     """Each variant's `planner.params` as written (read-only mappings); the planner validates them at `reset`."""
     score_profiles: list[str]
     """Each variant's score profile name (`metrics.profile`)."""
+    score_overrides: list[dict[str, float]]
+    """Each variant's safety thresholds that replace its profile's (`metrics.safety_*_threshold_*`)."""
     injury_risk_curves: list[str]
     """Each variant's fatality risk curve (`metrics.injury_risk_curve`)."""
     vru_motion: str
@@ -293,6 +295,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
         planner_names=[s.planner.name for s in scenarios],
         planner_params=[_read_only(s.planner.params) for s in scenarios],
         score_profiles=[s.metrics.profile for s in scenarios],
+        score_overrides=[s.metrics.score_overrides() for s in scenarios],
         injury_risk_curves=[s.metrics.injury_risk_curve for s in scenarios],
         vru_motion=motion,
         dt_s=dt,
