@@ -38,6 +38,8 @@ class EpisodeStep:
     """Actuator jerk over the step, m/s^3 (0 while the ego stood at the step start, as in the metrics)."""
     min_ttc_s: np.ndarray
     """Smallest true time-to-collision over the VRUs at the step end, s (inf: none)."""
+    min_clearance_m: np.ndarray
+    """Smallest clearance ego outline – VRU circle over the VRUs at the step end, m (inf: no VRU)."""
 
 
 class EpisodeStepper:
@@ -69,7 +71,7 @@ class EpisodeStepper:
         station_before, actuator_before = ego.station_m.copy(), ego.actuator_mps2.copy()
         moving_before = ego.speed_mps > 0.0
         reason = stepper.advance(command).reason
-        ttc = stepper.ttc_s
+        ttc, clearance = stepper.ttc_s, stepper.clearance_m
         return EpisodeStep(
             was_active=was_active,
             reason=reason,
@@ -80,6 +82,7 @@ class EpisodeStepper:
             accel_mps2=ego.accel_mps2.copy(),
             jerk_mps3=np.where(moving_before, (ego.actuator_mps2 - actuator_before) / params.dt_s, 0.0),
             min_ttc_s=ttc.min(axis=1) if ttc.shape[1] else np.full(params.size, np.inf),
+            min_clearance_m=clearance.min(axis=1) if clearance.shape[1] else np.full(params.size, np.inf),
         )
 
     def run(self) -> BatchRun:
