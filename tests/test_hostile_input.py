@@ -113,6 +113,13 @@ def test_a_null_byte_in_a_sweep_base_is_a_user_error(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("model", [[1.0], {"a": 1}, None, 3])
+def test_a_loss_model_that_is_not_a_name_is_a_user_error(tmp_path, model):
+    """Class 4: `v2x.channel.loss: {model: [1.0]}` raised TypeError (unhashable) in the model registry."""
+    path = _write(tmp_path, _scenario_text(v2x={"enabled": True, "channel": {"loss": {"model": model}}}))
+    assert_user_error(invoke("run", path), "v2x.channel.loss")
+
+
 def test_the_none_planner_refuses_parameters(tmp_path):
     path = _write(tmp_path, _scenario_text(planner={"name": "none", "params": {"zzz": 1}}))
     assert_user_error(invoke("run", path), "planner.params.zzz")
