@@ -27,8 +27,15 @@ def fuzz(examples: int) -> settings:
     )
 
 
-def _answer(args: list[str]) -> None:
-    verdict = invoke_cli(args)
+def _answer(args: list[str], text: str | None = None) -> None:
+    """Run `vrusim ARGS` (with `text` written to the file `FILE` stands for) in a fresh folder and check the
+    answer."""
+    with tempfile.TemporaryDirectory() as folder:
+        if text is not None:
+            path = Path(folder) / "input.yaml"
+            path.write_text(text, encoding="utf-8", errors="surrogatepass")
+            args = [str(path) if arg == "FILE" else arg for arg in args]
+        verdict = invoke_cli(with_folder(args, folder))
     assert verdict.acceptable, (args[:1], verdict.exit_code, verdict.output[-2000:], verdict.traceback)
     if verdict.exit_code == 0:
         assert finite_results(verdict.output), verdict.output[-2000:]
@@ -37,23 +44,16 @@ def _answer(args: list[str]) -> None:
 @fuzz(80)
 @given(text=scenario_texts())
 def test_malformed_scenario_files_get_a_result_or_one_clear_error(text):
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "scenario.yaml"
-        path.write_text(text, encoding="utf-8", errors="surrogatepass")
-        _answer(["run", str(path), "--json"])
+    _answer(["run", "FILE", "--json"], text)
 
 
 @fuzz(60)
 @given(text=sweep_texts())
 def test_malformed_sweep_specs_get_a_plan_or_one_clear_error(text):
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "spec.yaml"
-        path.write_text(text, encoding="utf-8", errors="surrogatepass")
-        _answer(["sweep", str(path), "--dry-run", "--json"])
+    _answer(["sweep", "FILE", "--dry-run", "--json"], text)
 
 
 @fuzz(60)
 @given(args=cli_arguments())
 def test_hostile_command_lines_get_a_result_or_one_clear_error(args):
-    with tempfile.TemporaryDirectory() as folder:
-        _answer(with_folder(args, folder))
+    _answer(args)
