@@ -28,6 +28,16 @@ LIMITS: dict[str, Limit] = {
     "yaml_nodes": Limit(200_000, "nodes", "values in a YAML file, counting every use of an alias (*anchor)"),
     "number_chars": Limit(64, "characters", "length of one number in a YAML file"),
     "list_items": Limit(100_000, "items", "items of one list in a YAML file"),
+    # physical bounds on scenario fields (vrusim.scenario.bounds), by the unit in the field's name
+    "coordinate_m": Limit(100_000, "m", "|x| or |y| of a position, a field x_m or y_m"),
+    "length_m": Limit(100_000, "m", "a length or distance, a field ending in _m, or a VRU path's total length"),
+    "speed_mps": Limit(150, "m/s", "a speed, a field ending in _mps"),
+    "accel_mps2": Limit(100, "m/s^2", "an acceleration, a field ending in _mps2"),
+    # work budgets, checked before the work starts
+    "sweep_variants": Limit(10_000_000, "variants", "variants of one sweep (grid points x samples)"),
+    "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
+    "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
+    "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),
 }
 """Every limit by name (the environment variable is VRUSIM_LIMIT_ + the name in capitals)."""
 
@@ -53,16 +63,30 @@ def limit(name: str) -> float:
 
 
 def amount(value: float) -> str:
-    """A count or size as text: whole numbers with thousands separators (2,000,000), others as %g."""
-    return f"{int(value):,}" if float(value).is_integer() else f"{value:g}"
+    """A count or size as text: whole numbers below 10^15 with thousands separators (2,000,000), others in
+    Python's shortest form (0.25, 1e+308)."""
+    number = float(value)
+    if number.is_integer() and abs(number) < 1e15:
+        return f"{int(value):,}"
+    short = f"{number:g}"
+    return short if float(short) == number else repr(number)
+
+
+def excess(name: str, value: float) -> str | None:
+    """Why `value` is beyond limit `name` (its magnitude is compared), or None when it is within:
+    "<value> <unit> exceeds the limit of <limit> (<what the limit bounds>; <variable> raises it)"."""
+    bound = limit(name)
+    if not abs(value) > bound:
+        return None
+    entry = LIMITS[name]
+    return (
+        f"{amount(value)} {entry.unit} exceeds the limit of {amount(bound)} ({entry.bounds}; "
+        f"{env_name(name)} raises it)"
+    )
 
 
 def check_limit(name: str, value: float, what: str) -> None:
     """Raise a UserInputError naming `what` if `value` exceeds limit `name`."""
-    bound = limit(name)
-    if value > bound:
-        entry = LIMITS[name]
-        raise UserInputError(
-            f"{what}: {amount(value)} {entry.unit} exceeds the limit of {amount(bound)} ({entry.bounds}; "
-            f"{env_name(name)} raises it)"
-        )
+    reason = excess(name, value)
+    if reason is not None:
+        raise UserInputError(f"{what}: {reason}")

@@ -16,7 +16,9 @@ import numpy as np
 
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.stepper import BatchStepper
+from vrusim.engine.trace_recorder import TraceRecorder, check_trace_budget
 from vrusim.errors import UserInputError
+from vrusim.limits import check_limit
 from vrusim.planners.base import (
     Planner,
     PlannerBase,
@@ -67,12 +69,13 @@ def simulate(
     planner or channel passed in then ends the run holding only the variants still running at its end.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    check_budgets(batch, trace)
     planner_name = batch.planner_names[0] if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(batch.planner_names)
     planner.reset(batch)
     mode_names = planner_mode_names(planner)
     stepper = BatchStepper(batch, len(mode_names), channel)
-    recorder = TraceRecorder() if trace else None
+    recorder = TraceRecorder(batch.n_steps) if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
     declared = isinstance(planner, PlannerBase)  # declares mode and warning: read them directly (a hot loop)
     for _ in range(batch.n_steps):
@@ -97,6 +100,14 @@ def simulate(
     return BatchRun(batch, stepper.finish(), mode_names, recorder.finish() if recorder else None, stepper.step_index)
 
 
+def check_budgets(batch: BatchParams, trace: bool) -> None:
+    """Refuse a batch beyond the work budgets before it runs: its variant-steps, and its trace's memory."""
+    what = f"{batch.size:,} variants x {batch.n_steps:,} steps of one batch run"
+    check_limit("batch_variant_steps", batch.size * batch.n_steps, what)
+    if trace:
+        check_trace_budget(batch.n_steps, batch.size, batch.vru_slots)
+
+
 def _checked_command(command, size: int, name: str) -> np.ndarray:
     """The planner's acceleration command as a finite float array of shape [B], or one clear error."""
     try:
@@ -109,46 +120,3 @@ def _checked_command(command, size: int, name: str) -> np.ndarray:
             f"got shape {array.shape}" + ("" if array.shape != (size,) else " with NaN or infinite values")
         )
     return array
-
-
-class TraceRecorder:
-    """Full time series for plots and trace files (only when asked: memory O(B x steps)).
-
-    Row i holds the state at t_s[i] = (i + 1) dt, and the detections, planner mode and command decided at
-    the start of that step (time t_s[i] - dt).
-    """
-
-    def __init__(self) -> None:
-        self.rows: dict[str, list[np.ndarray]] = {}
-
-    def _put(self, name: str, value) -> None:
-        self.rows.setdefault(name, []).append(np.array(value, copy=True))
-
-    def add(self, stepper: BatchStepper, planner: Planner, command: np.ndarray) -> None:
-        ego, vrus = stepper.ego, stepper.vrus
-        self._put("t_s", stepper.t_s)
-        self._put("ego_x_m", ego.centre_x_m)
-        self._put("ego_y_m", ego.centre_y_m)
-        self._put("ego_heading_x", ego.heading_x)
-        self._put("ego_heading_y", ego.heading_y)
-        self._put("ego_speed_mps", ego.speed_mps)
-        self._put("ego_accel_mps2", ego.accel_mps2)
-        self._put("ego_command_mps2", command)
-        self._put("ego_curvature_per_m", ego.curvature_per_m)
-        self._put("ego_station_m", ego.station_m)
-        mode = planner_mode(planner)
-        self._put("planner_mode", np.zeros(ego.x_m.shape, dtype=np.int8) if mode is None else mode)
-        self._put("vru_x_m", vrus.x_m)
-        self._put("vru_y_m", vrus.y_m)
-        self._put("vru_speed_mps", vrus.speed_mps)
-        self._put("vru_detected", stepper.detected)
-        self._put("vru_source", stepper.source)
-        self._put("clearance_m", stepper.clearance_m.min(axis=1))
-        self._put("ttc_s", stepper.ttc_s.min(axis=1))
-        if stepper.has_driver:
-            self._put("driver_accel_mps2", stepper.driver.accel_mps2)
-        if stepper.has_door:
-            self._put("door_angle_rad", stepper.door.angle_rad)
-
-    def finish(self) -> dict[str, np.ndarray]:
-        return {name: np.stack(values) for name, values in self.rows.items()}

@@ -11,6 +11,7 @@ from typing import Any, Literal, Self
 
 from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
 
+from vrusim.scenario.bounds import path_length_excess
 from vrusim.scenario.door import Door
 from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
@@ -342,6 +343,16 @@ class Vru(StrictModel):
     mass_kg: float | None = Field(
         None, ge=1, le=1000, description="with its vehicle, for Δv (docs/metrics.md), kg; None: the type's default"
     )
+
+    @field_validator("path")
+    @classmethod
+    def _path_not_too_long(cls, path: list[Point] | None, info: Any) -> list[Point] | None:
+        start = info.data.get("start")
+        if path is not None and start is not None:
+            reason = path_length_excess([(p.x_m, p.y_m) for p in (start, *path)])
+            if reason is not None:
+                raise ValueError(reason)
+        return path
 
     @model_validator(mode="after")
     def _one_path(self) -> Self:

@@ -6,18 +6,52 @@ mode would otherwise read `top_speed_mps: on` (YAML 1.1's `on` is `true`) as 1.0
 1.5 and `enabled: 1` as true, silently. Strictness lives in pydantic's compiled validators, so it costs no
 validation time. Fields whose YAML form is not their Python type relax it with `Field(strict=False)`: an enum
 written as its name, a tuple written as a YAML list.
+
+Every field is also held to the physical bound of the unit in its name (coordinates, lengths, speeds,
+accelerations: `vrusim.scenario.bounds`), so a huge but finite number is refused with the field's path.
 """
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict
+from collections.abc import Callable
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, field_validator
 from pydantic_core import ErrorDetails
+
+from vrusim.scenario.bounds import BOUND_LIMITS, bound_of, value_excess
 
 
 class StrictModel(BaseModel):
     """Base model: see the module docstring."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False, strict=True)
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Attach the bounds checks to the fields whose unit has one, one validator per limit (before pydantic
+        collects validators: a validator on every field would make validation five times slower)."""
+        super().__init_subclass__(**kwargs)
+        names = {name for klass in cls.__mro__ for name in vars(klass).get("__annotations__", {})}
+        for limit_name, check in _BOUND_CHECKS.items():
+            bounded = sorted(name for name in names if bound_of(name) == limit_name)
+            if bounded:
+                validator = field_validator(*bounded, mode="after", check_fields=False)(check)
+                setattr(cls, f"_bound_{limit_name}", validator)
+
+
+def _bound_check(limit_name: str) -> Callable[[type, Any], Any]:
+    """A validator: the value, or a ValueError when it is beyond limit `limit_name`."""
+
+    def check(cls: type, value: Any) -> Any:
+        reason = value_excess(limit_name, value)
+        if reason is not None:
+            raise ValueError(reason)
+        return value
+
+    return check
+
+
+_BOUND_CHECKS = {name: _bound_check(name) for name in BOUND_LIMITS}
 
 
 def the_one_given(model: BaseModel, names: tuple[str, ...]) -> str:

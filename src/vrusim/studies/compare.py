@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
+from vrusim.limits import check_limit
 from vrusim.metrics.summary import summary_rows
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.loading import scenario_from_mapping
@@ -77,6 +78,8 @@ def compare(
     """One summary row per (planner, V2X setting) over `seeds` seeded variants (seeds `first_seed` onwards)."""
     if seeds < 1:
         raise UserInputError("--seeds: expected a positive number of seeds")
+    what = f"--seeds: {seeds:,} seeds x {len(v2x)} V2X settings x {len(planners)} planners"
+    check_limit("compare_runs", seeds * len(v2x) * len(planners), what)
     if base.v2x.rsu is None and any(name != V2X_OFF for name in v2x):
         raise UserInputError("--v2x: the scenario has no roadside unit (v2x.rsu); only 'off' is possible")
     from vrusim.scenario.v2x import V2X_PROFILES

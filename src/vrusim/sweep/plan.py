@@ -9,11 +9,12 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from vrusim.errors import UserInputError
+from vrusim.limits import check_limit
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 from vrusim.sweep.field_paths import Step, check_path, with_values
@@ -122,7 +123,7 @@ def make_plan(spec: SweepSpec, batch_size: int | None = None) -> SweepPlan:
             check_path(base, parameter.path)
     if batch_size is not None and batch_size < 1:
         raise UserInputError("--batch-size: expected a positive number of variants")
-    return SweepPlan(
+    plan = SweepPlan(
         name=spec.name,
         bases={key: _dump(base) for key, base in resolved.items()},
         parameters=spec.parameters,
@@ -131,6 +132,18 @@ def make_plan(spec: SweepSpec, batch_size: int | None = None) -> SweepPlan:
         batch_size=batch_size or spec.batch_size,
         correlations=spec.correlations,
     )
+    check_budgets(plan, resolved.values())
+    return plan
+
+
+def check_budgets(plan: SweepPlan, bases: Iterable[Scenario]) -> None:
+    """Refuse a plan beyond the work budgets before its design is drawn: its variants (catalogue tests
+    included) and the variant-steps of one batch (at the bases' step counts; a swept duration is checked again
+    per batch by the engine)."""
+    check_limit("sweep_variants", plan.variants, f"{plan.name}: samples x {plan.grid_points:,} grid points")
+    steps = max(math.ceil(base.sim.duration_s / base.sim.dt_s - 1e-9) for base in bases)
+    batch = min(plan.batch_size, plan.variants)
+    check_limit("batch_variant_steps", batch * steps, f"batch_size: {batch:,} variants x {steps:,} steps")
 
 
 class VariantBuilder:

@@ -26,12 +26,12 @@ import numpy as np
 from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
+from vrusim.limits import check_limit
+from vrusim.scenario.bounds import bound_excess
 from vrusim.scenario.loading import field_path
 from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
 
-MAX_VARIANTS = 100_000_000
-"""Most variants one sweep may have."""
 MIN_TRUNCATED_MASS = 1e-6
 """Least probability a truncated normal's interval may hold (rejection sampling would never end)."""
 GRID_KINDS = ("grid",)
@@ -64,7 +64,7 @@ class SpecFile(StrictModel):
     catalogue: CatalogueBase | None = None
     set: dict[str, Any] = Field(default_factory=dict)
     parameters: dict[str, Any] = Field(default_factory=dict)
-    samples: int = Field(1, ge=1, le=MAX_VARIANTS)
+    samples: int = Field(1, ge=1, description="random draws per grid point (limit sweep_variants)")
     seed: int = Field(0, ge=0, lt=2**63)
     batch_size: int = Field(2000, ge=1, le=1_000_000)
     correlation: list[CorrelationEntry] = Field(default_factory=list, max_length=100)
@@ -163,16 +163,16 @@ def _grid_range(where: str, value: Any) -> tuple[float, ...]:
     if step <= 0 or stop < start:
         raise UserInputError(f"{where}: expected step > 0 and stop >= start")
     count = math.floor((stop - start) / step + 1e-9) + 1
-    if count > MAX_VARIANTS:
-        raise UserInputError(f"{where}: {count:,} values is too many")
+    check_limit("sweep_variants", count, f"{where}: its values")
     return tuple(round(start + i * step, 12) for i in range(count))
 
 
 def _linspace(where: str, value: Any) -> tuple[float, ...]:
     start, stop, count = _named(where, value, ("start", "stop", "count"))
     start, stop = _numbers(where, [start, stop], 2, "[start, stop, count]")
-    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_VARIANTS:
+    if not isinstance(count, int) or isinstance(count, bool) or count < 1:
         raise UserInputError(f"{where}: count must be a whole number ≥ 1")
+    check_limit("sweep_variants", count, f"{where}: count")
     if count == 1:
         return (start,)
     return tuple(start + (stop - start) * i / (count - 1) for i in range(count))
@@ -250,6 +250,20 @@ def parse_parameter(path: str, value: Any) -> Parameter:
     )
 
 
+def check_bounds(parameter: Parameter) -> None:
+    """Refuse a parameter whose values or range reach beyond the physical bound of its field (by the unit in
+    the field's name, `vrusim.scenario.bounds`), before any variant is built. A normal distribution has no
+    range: its draws are checked when the sweep validates its extreme variants."""
+    field = parameter.path.rsplit(".", 1)[-1]
+    if "[" in field:  # a list element (a path point): its coordinates are checked per variant
+        return
+    ends = (parameter.low, parameter.high) if parameter.kind in ("uniform", "truncated_normal") else ()
+    for value in (*parameter.values, *ends):
+        reason = bound_excess(field, value)
+        if reason is not None:
+            raise UserInputError(f"parameters.{parameter.path}: {reason}")
+
+
 def parse_correlations(entries: list[CorrelationEntry], parameters: tuple[Parameter, ...]) -> tuple[Correlation, ...]:
     """Check each `correlation` entry against the random parameters; the matrix must be positive definite."""
     order = {p.path: i for i, p in enumerate(parameters) if p.is_random}
@@ -315,9 +329,11 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     clash = sorted(set(document.set) & set(document.parameters))
     if clash:
         raise UserInputError(f"set.{clash[0]}: a field is either fixed (set) or swept (parameters), not both")
+    for parameter in parameters:
+        check_bounds(parameter)
     grid_points = math.prod(len(p.values) for p in parameters if not p.is_random)
-    if grid_points * document.samples > MAX_VARIANTS:
-        raise UserInputError(f"samples: {grid_points * document.samples:,} variants exceed {MAX_VARIANTS:,}")
+    check_limit("sweep_variants", document.samples, "samples")
+    check_limit("sweep_variants", grid_points * document.samples, f"samples x {grid_points:,} grid points")
     correlations = parse_correlations(document.correlation, parameters)
     base_file = None if document.base is None else (folder / document.base)
     return SweepSpec(
