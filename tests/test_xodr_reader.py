@@ -78,7 +78,8 @@ def test_the_reader_keeps_every_record_of_the_file(analytic):
     assert arc.lane_offsets[0].a == 0.25
     assert analytic.roads["ppoly_line"].geometries[0].shape.normalized is False
     assert analytic.roads["ppoly_parabola"].geometries[0].shape.normalized is True
-    assert arc.geometries[0].line == 20  # line numbers are kept for messages
+    lines = (DATA / "analytic.xodr").read_text().splitlines()
+    assert 'curvature="0.05"' in lines[arc.geometries[0].line - 1]  # line numbers are kept for messages
 
 
 # ------------------------------------------------------------------------------------- analytic reference lines
@@ -143,13 +144,24 @@ def right_outer_width(s: float) -> float:
 @pytest.mark.parametrize("lane, s", [(1, 6.0), (-1, 6.0), (-2, 4.0), (-2, 11.0), (-1, 13.5)])
 def test_a_lane_centre_on_an_arc_road_lies_on_the_circle_of_radius_minus_its_t(analytic, lane, s):
     offset = 0.25
-    t = {1: offset + 1.5, -1: offset - 1.75, -2: offset - 3.5 - right_outer_width(s) / 2}[lane]
+    inner_right = 3.5 if s < 12 else 3.5 + 0.1 * (s - 12)  # the second section's record starts at its start
+    t = {1: offset + 1.5, -1: offset - inner_right / 2, -2: offset - 3.5 - right_outer_width(s) / 2}[lane]
     for extra in (0.0, 0.4):
         x, y, heading = lane_position(analytic, "arc", lane, s, offset_m=extra)
         radius, angle = 20.0 - (t + extra), s / 20.0
         assert (x[0], y[0], heading[0]) == pytest.approx(
             (radius * math.sin(angle), 20 - radius * math.cos(angle), angle)
         )
+
+
+def test_the_lane_offset_is_zero_before_its_first_record_and_a_cubic_after_it(analytic):
+    stations = np.array([0.0, 3.9, 4.0, 8.0])
+    offset = np.where(stations < 4, 0.0, -0.5 + 0.05 * (stations - 4))
+    x, y, heading = lane_position(analytic, "line", -1, stations)
+    assert heading == pytest.approx(np.full(4, 0.3))  # the s axis's, whatever the offset's slope
+    t = offset - 1.5  # the centre of a 3 m right lane
+    assert x == pytest.approx(1 + stations * math.cos(0.3) - t * math.sin(0.3))  # a line from (1, 2) at 0.3 rad
+    assert y == pytest.approx(2 + stations * math.sin(0.3) + t * math.cos(0.3))
 
 
 def test_lane_borders_meet_and_a_lane_missing_from_a_section_is_refused(analytic):
