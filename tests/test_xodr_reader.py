@@ -186,6 +186,21 @@ def test_road_positions_off_the_road_or_on_no_road_are_user_errors(analytic):
     )
 
 
+@pytest.mark.parametrize(
+    "rule, lane, forward", [("RHT", -1, True), ("RHT", 1, False), ("LHT", -1, False), ("LHT", 1, True)]
+)
+def test_a_lane_route_runs_in_the_direction_of_travel_of_its_rule(rule, lane, forward):
+    lanes = (
+        '<laneSection s="0"><left><lane id="1"><width sOffset="0" a="3" b="0" c="0" d="0"/></lane></left>'
+        '<center><lane id="0"/></center><right><lane id="-1"><width sOffset="0" a="3" b="0" c="0" d="0"/></lane>'
+        "</right></laneSection>"
+    )
+    network = parse_xodr(one_road("<line/>", 8.0, lanes=lanes).replace('junction="-1"', f'junction="-1" rule="{rule}"'))
+    points = np.array(route_polyline(network, [("r", lane)], spacing_m=1.0).points)
+    assert len(points) == 9 and points[:, 1] == pytest.approx(np.full(9, 1.5 * lane))
+    assert points[[0, -1], 0] == pytest.approx([0.0, 8.0] if forward else [8.0, 0.0])
+
+
 # ----------------------------------------------------------------------------------------- property tests
 
 

@@ -1,8 +1,8 @@
 """Evaluate an OpenDRIVE road's reference line: station s (m) -> world x, y (m) and heading (rad).
 
-Every plan-view geometry kind of ASAM OpenDRIVE 1.8 section 9 (1.6 section 7): line, arc and paramPoly3 in
+Every plan-view geometry kind of ASAM OpenDRIVE 1.6 / 1.8 (chapter "Geometry"): line, arc and paramPoly3 in
 closed form; spiral (clothoid) by the Gauss-Legendre quadrature of `geometry.paths` (round-off accuracy);
-poly3 with s as the true arc length of v(u), inverted by tabulated quadrature and Newton steps (1e-9 m).
+poly3 with s as the true arc length of v(u), inverted by tabulated quadrature and Newton steps (< 1e-12 m).
 paramPoly3 maps s to p linearly, as the standard defines (p = ds, or ds / length when normalized): its arc
 length is not re-parametrised. Formulas and sources: docs/opendrive_import.md.
 """

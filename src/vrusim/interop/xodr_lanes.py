@@ -3,7 +3,7 @@
 A road position (road, s, t) lies t metres left of the reference line at station s (right: t < 0). Lane
 borders count outward from the centre lane, which lies at the lane offset: the outer border of left lane n
 is offset + w1 + ... + wn, of right lane -n is offset - (w-1 + ... + w-n); a lane's centre is halfway
-between its borders (ASAM OpenDRIVE 1.8 sections 11.3-11.5, 1.6 section 9). Every polynomial is evaluated
+between its borders (ASAM OpenDRIVE 1.6 / 1.8, chapter "Lanes"). Every polynomial is evaluated
 from the last record starting at or before the station; before the first one it is 0. Heading: the
 reference line's at s (the direction of the s axis). Lengths in m, angles in rad.
 """
