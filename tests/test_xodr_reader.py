@@ -303,6 +303,8 @@ def test_a_route_through_the_junction_is_a_polyline_along_the_lane_centres(junct
     assert fine.length_m == pytest.approx(2 * (half - width) + turn_m, abs=2e-5)
     with pytest.raises(UserInputError, match=r"route: road '4' lane -1 starts .* m from the end of the previous step"):
         route_polyline(network, [("1", -1), ("4", -1)])
+    with pytest.raises(UserInputError, match="no road '99'"):
+        route_polyline(network, [("1", -1), ("99", -1)])
 
 
 # ------------------------------------------------------------------------------------ hostile and malformed

@@ -44,9 +44,16 @@ def reference_points(road: Road, spacing_m: float = SAMPLE_SPACING_M) -> np.ndar
 
 def lane_points(network: Network, road_id: str, lane_id: int, spacing_m: float = SAMPLE_SPACING_M) -> np.ndarray:
     """Points [N, 2] (m) of a lane's centre line from s = 0 to the road's end."""
-    road = network.roads[str(road_id)]
+    road = _road(network, road_id)
     x, y, _ = lane_position(network, road.id, lane_id, stations_m(road, spacing_m))
     return np.column_stack([x, y])
+
+
+def _road(network: Network, road_id: str) -> Road:
+    road = network.roads.get(str(road_id))
+    if road is None:
+        raise UserInputError(f"{network.source or 'OpenDRIVE'}: no road {str(road_id)!r}")
+    return road
 
 
 def polyline(points: np.ndarray) -> PolylineSpec:
@@ -72,9 +79,7 @@ def route_polyline(
         raise UserInputError("a route needs at least one (road, lane)")
     parts: list[np.ndarray] = []
     for road_id, lane_id in steps:
-        if str(road_id) not in network.roads:
-            raise UserInputError(f"{network.source or 'OpenDRIVE'}: no road {str(road_id)!r}")
-        road = network.roads[str(road_id)]
+        road = _road(network, road_id)
         points = lane_points(network, road.id, lane_id, spacing_m)
         points = points if along_s(road, lane_id) else points[::-1]
         if parts:
