@@ -1,1 +1,2 @@
-"""Interoperability: OpenSCENARIO / OpenDRIVE export, CommonRoad export (Gymnasium environments: vrusim.gym)."""
+"""Interoperability: OpenSCENARIO / OpenDRIVE export, OpenDRIVE import (roads), CommonRoad export (Gymnasium
+environments: vrusim.gym)."""

@@ -14,7 +14,7 @@ from pathlib import Path
 from xml.parsers import expat
 
 from vrusim.errors import UserInputError
-from vrusim.scenario.yaml_file import _read_text
+from vrusim.scenario.yaml_file import read_checked_text
 
 _SHOWN_CHARS = 40
 """A name taken from the file is shown shortened to this many characters."""
@@ -89,4 +89,4 @@ def parse_xml(text: str, source: str) -> Element:
 
 def read_xml_file(path: Path, kind: str) -> Element:
     """The root element of the XML file `path` (a `kind` file, e.g. "OpenDRIVE"); refused as described above."""
-    return parse_xml(_read_text(Path(path), kind), str(path))
+    return parse_xml(read_checked_text(Path(path), kind), str(path))

@@ -115,7 +115,7 @@ def parse_yaml(text: str) -> object:
 def read_yaml_file(path: Path, kind: str) -> object:
     """The parsed YAML document in `path`; a missing, special, oversized, unreadable or malformed file is a
     UserInputError."""
-    text = _read_text(path, kind)
+    text = read_checked_text(path, kind)
     try:
         return parse_yaml(text)
     except InputLimitError as error:
@@ -124,7 +124,7 @@ def read_yaml_file(path: Path, kind: str) -> object:
         raise UserInputError(f"{path}: not valid YAML ({_describe(error)})") from None
 
 
-def _read_text(path: Path, kind: str) -> str:
+def read_checked_text(path: Path, kind: str) -> str:
     """The text of a regular file of at most `input_file_bytes`, checked before reading it."""
     try:
         info = path.stat()
