@@ -26,6 +26,7 @@ import numpy as np
 from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_name
 from vrusim.scenario.loading import field_path
 from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
@@ -319,7 +320,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     if grid_points * document.samples > MAX_VARIANTS:
         raise UserInputError(f"samples: {grid_points * document.samples:,} variants exceed {MAX_VARIANTS:,}")
     correlations = parse_correlations(document.correlation, parameters)
-    base_file = None if document.base is None else (folder / document.base)
+    base_file = None if document.base is None else check_name(folder / document.base, f"{source}: base")
     return SweepSpec(
         name=document.name or Path(source).stem,
         description=document.description,
