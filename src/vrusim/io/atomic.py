@@ -33,6 +33,12 @@ def _temporary(path: Path, what: str) -> Path:
     return Path(temp_name)
 
 
+def run_writer(write: Callable[[Path], None], temp: Path) -> None:
+    """Run one writer on its temporary file (the one place file contents are written; tests replace it to
+    simulate a full disk)."""
+    write(temp)
+
+
 def write_atomically(path: str | Path, write: Callable[[Path], None], what: str = "file") -> Path:
     """Run `write(temp)` on a temporary file next to `path`, then replace `path` with it; return `path`.
 
@@ -53,7 +59,7 @@ def write_together(targets: list[tuple[Path, Callable[[Path], None], str]]) -> l
             except (OSError, ValueError) as error:  # ValueError: a null byte in the name
                 raise cannot_write(path, what, error) from None
             try:
-                write(temps[-1])
+                run_writer(write, temps[-1])
                 os.chmod(temps[-1], _default_file_mode())
             except OSError as error:
                 raise cannot_write(path, what, error) from None

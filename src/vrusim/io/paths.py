@@ -162,7 +162,9 @@ def remove_folders(created: list[Path]) -> None:
     for folder in reversed(created):
         try:
             folder.rmdir()
-        except OSError:
+        except FileNotFoundError:  # removed already
+            continue
+        except OSError:  # not empty: it holds files of someone else, keep it (and so its parents)
             return
 
 
