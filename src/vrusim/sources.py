@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
+from vrusim.io.paths import os_reason
 from vrusim.scenario.schema import Scenario
 
 if TYPE_CHECKING:
@@ -112,12 +113,14 @@ def is_scenario_file(source: str) -> bool:
     """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
     path = Path(source)
     try:
+        if "\0" in source:  # Path.exists() would just say False
+            raise ValueError("embedded null byte")
         if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
             return False
         folder = path.is_dir()
     except (OSError, ValueError) as error:  # a name too long for the OS, a null byte, ...
         shown = source if len(source) <= 80 else source[:77] + "..."
-        reason = getattr(error, "strerror", None) or str(error)
+        reason = os_reason(error)
         raise UserInputError(f"SOURCE: cannot use {shown!r} as a file name ({reason})") from None
     if folder:
         raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")

@@ -14,9 +14,10 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 from rich.markup import escape
 
-from vrusim.cli.options import ForceOption, JsonOption, check_out_dir, make_out_dir, out_dir_option
+from vrusim.cli.options import ForceOption, JsonOption, check_out_dir, out_dir_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
+from vrusim.io.paths import for_option, new_folder
 from vrusim.sources import resolve_source
 
 if TYPE_CHECKING:
@@ -39,15 +40,15 @@ def _export_all(scenarios: list[Scenario], fmt: ExportFormat, out: Path) -> list
     if fmt is ExportFormat.commonroad:
         from vrusim.interop.commonroad import export_commonroad_all
 
-        make_out_dir(out)
-        return export_commonroad_all(scenarios, out)
+        with new_folder(out, "--out"), for_option("--out"):
+            return export_commonroad_all(scenarios, out)
     from vrusim.interop.openscenario import build_export
 
     exports = [build_export(scenario) for scenario in scenarios]
     if len({e.stem for e in exports}) != len(exports):
         raise UserInputError("SOURCE: two scenarios would be written to the same file name")
-    make_out_dir(out)
-    return [path for e in exports for path in e.write(out)]
+    with new_folder(out, "--out"), for_option("--out"):
+        return [path for e in exports for path in e.write(out)]
 
 
 def export_command(

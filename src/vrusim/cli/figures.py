@@ -10,6 +10,7 @@ from pathlib import Path
 
 from vrusim.cli.output import named_errors
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_output_folder, for_option, new_folder
 
 PAPER_FIGURE_DPI = 110.0
 """Resolution of the `paper --figures` PNGs, dots per inch."""
@@ -17,13 +18,16 @@ PAPER_FIGURE_DPI = 110.0
 
 def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
     """Fail (naming --plot / --animate) unless each given path has a known suffix and a writable folder."""
+    from vrusim.io.paths import check_output_file
     from vrusim.viz.animate import check_animation_path
     from vrusim.viz.figure_io import check_figure_path
 
     if plot is not None:
+        check_output_file(plot, "--plot")
         with named_errors("--plot"):
             check_figure_path(plot)
     if animate is not None:
+        check_output_file(animate, "--animate")
         with named_errors("--animate"):
             check_animation_path(animate)
 
@@ -52,6 +56,7 @@ def write_run_outputs(run, scenario, plot: Path | None, animate: Path | None) ->
 
 def check_figures_dir(directory: Path) -> Path:
     """--figures DIR: an existing writable folder, or a new one whose parent exists and is writable."""
+    check_output_folder(directory, "--figures")
     if directory.exists() and not directory.is_dir():
         raise UserInputError(f"--figures: {directory} is not a folder")
     folder = directory if directory.is_dir() else directory.parent
@@ -84,11 +89,8 @@ def write_paper_figures(directory: Path, dpi: float = PAPER_FIGURE_DPI) -> list[
         snapshots, timeseries = paper_figure_names(case.key)
         for name, fig in ((snapshots, snapshot_figure(pair)), (timeseries, timeseries_figure(pair))):
             targets.append((directory / name, _saver(fig, dpi), "figure"))
-    try:
-        directory.mkdir(exist_ok=True)
+    with new_folder(directory, "--figures"), for_option("--figures"):
         return write_together(targets)
-    except (OSError, UserInputError) as error:
-        raise UserInputError(f"--figures: {error}") from None
 
 
 def _saver(fig, dpi: float):

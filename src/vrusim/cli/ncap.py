@@ -18,11 +18,11 @@ from vrusim.cli.options import (
     JsonOption,
     ReportOption,
     V2XSwitch,
+    check_out_dir,
     file_option,
     one_planner,
     out_dir_option,
     planner_option,
-    prepare_out_dir,
     seed_option,
     v2x_switch_option,
 )
@@ -176,7 +176,7 @@ def ncap_command(
         tests = select(scenario or [], night=night, protocol=book.name)
         options = check_2026_options(book.name, predictions, verify, seed)
         if out is not None:
-            _prepare_out(out, force)
+            _check_out(out, force)
         check_report_option(report)
         if book.name == "2026":
             _ncap_2026(tests, chosen, v2x == V2XSwitch.on, options, out, report, as_json)
@@ -245,10 +245,10 @@ def _ncap_2023(
         terminal.print(f"Wrote {escape(str(path))}")
 
 
-def _prepare_out(folder: Path, force: bool) -> None:
-    """Create the --out folder before anything runs; refuse one that is not empty (without --force), or whose
-    targets cannot be files."""
-    prepare_out_dir(folder, force)
+def _check_out(folder: Path, force: bool) -> None:
+    """Refuse, before anything runs, an --out that cannot be written into, is not empty (without --force), or whose
+    targets cannot be files. The folder is created only when the results are written."""
+    check_out_dir(folder, force)
     for name in OUTPUT_FILES:
         if (folder / name).is_dir():
             raise UserInputError(f"--out: {folder / name} is a folder; cannot write {name}")
@@ -261,15 +261,17 @@ def _write_outputs(folder: Path, rows: list[dict], assessment: Assessment) -> li
     import pyarrow.parquet as pq
 
     from vrusim.io.atomic import write_together
+    from vrusim.io.paths import for_option, new_folder
     from vrusim.viz.scorecard import scorecard_figure
 
     table = pa.Table.from_pylist(rows)
     figure = scorecard_figure(assessment)
     csv_name, parquet_name, png_name = OUTPUT_FILES[:3]
-    return write_together(
-        [
-            (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),
-            (folder / parquet_name, lambda temp: pq.write_table(table, temp), "results"),
-            (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
-        ]
-    )
+    with new_folder(folder, "--out"), for_option("--out"):
+        return write_together(
+            [
+                (folder / csv_name, lambda temp: pa_csv.write_csv(table, temp), "results"),
+                (folder / parquet_name, lambda temp: pq.write_table(table, temp), "results"),
+                (folder / png_name, lambda temp: figure.savefig(temp, format="png"), "scorecard"),
+            ]
+        )

@@ -44,8 +44,10 @@ def check_2026_options(protocol: str, predictions: Path | None, verify: int, see
         raise UserInputError(f"--verify: expected a number of draws from 0 to 100000, got {verify}")
     if predictions is not None:
         from vrusim.extras import extra
+        from vrusim.io.paths import check_output_file
         from vrusim.viz.figure_io import check_output_path
 
+        check_output_file(predictions, "--predictions")
         try:
             check_output_path(predictions, PREDICTION_SUFFIXES, "predictions file")
         except UserInputError as error:
@@ -69,9 +71,12 @@ def write_2026_outputs(
 ) -> list[Path]:
     """results.csv / .parquet, scorecard.png (and verification.json) in `folder`, all or none; the predictions
     file. Returns what was written."""
+    from vrusim.io.paths import for_option
+
     written: list[Path] = []
     if predictions is not None:  # first: it can refuse an assessment, the folder's files cannot
-        written.append(rated.write_predictions(predictions))
+        with for_option("--predictions"):
+            written.append(rated.write_predictions(predictions))
         from vrusim.ncap.predictions import unpredicted_scenarios
 
         blank = unpredicted_scenarios(rated.assessment)
@@ -93,6 +98,7 @@ def _write_folder(rated: Rated2026, verification: VerificationReport | None, fol
     import pyarrow.parquet as pq
 
     from vrusim.io.atomic import write_together
+    from vrusim.io.paths import for_option, new_folder
     from vrusim.ncap.results2026 import result_rows_2026, verification_text
     from vrusim.viz.scorecard2026 import scorecard_2026_figure
 
@@ -107,7 +113,8 @@ def _write_folder(rated: Rated2026, verification: VerificationReport | None, fol
     if verification is not None:
         text = verification_text(verification)
         targets.append((folder / json_name, lambda temp: temp.write_text(text, encoding="utf-8"), "verification"))
-    written = write_together(targets)
+    with new_folder(folder, "--out"), for_option("--out"):
+        written = write_together(targets)
     if verification is None:  # a verification of an earlier run (--force) would not describe these results
         (folder / json_name).unlink(missing_ok=True)
     return written

@@ -130,22 +130,19 @@ def switch_value(switch: V2XSwitch | None) -> bool | None:
 
 
 def check_out_dir(folder: Path, force: bool, option: str = "--out") -> None:
-    """Refuse, before anything runs, an --out that is a file, or a folder that is not empty without --force."""
-    if folder.exists() and not folder.is_dir():
-        raise UserInputError(f"{option}: {folder} exists and is not a folder")
+    """Refuse, before anything runs, an --out that cannot be a folder to write into (`vrusim.io.paths`), or a
+    folder that is not empty without --force."""
+    from vrusim.io.paths import check_output_folder, shown
+
+    check_output_folder(folder, option)
     if not force and folder.is_dir() and any(folder.iterdir()):
-        raise UserInputError(f"{option}: {folder} is not empty; give --force to overwrite, or choose a new folder")
+        raise UserInputError(
+            f"{option}: {shown(folder)} is not empty; give --force to overwrite, or choose a new folder"
+        )
 
 
-def make_out_dir(folder: Path, option: str = "--out") -> None:
-    """Create the --out folder (and its parents) if missing."""
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise UserInputError(f"{option}: cannot create {folder} ({error.strerror or error})") from None
+def make_out_dir(folder: Path, option: str = "--out") -> list[Path]:
+    """Create the --out folder (and its parents) if missing; return the folders created."""
+    from vrusim.io.paths import make_folder
 
-
-def prepare_out_dir(folder: Path, force: bool, option: str = "--out") -> None:
-    """`check_out_dir`, then `make_out_dir`."""
-    check_out_dir(folder, force, option)
-    make_out_dir(folder, option)
+    return make_folder(folder, option)

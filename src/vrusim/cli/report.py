@@ -21,6 +21,7 @@ from vrusim.cli.options import (
 )
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_output_file
 
 if TYPE_CHECKING:
     from vrusim.report import Report
@@ -57,7 +58,7 @@ def report_command(
 
         chosen = one_planner(planner, "report")
         source_kind(source)
-        check_output(out)
+        check_output(check_output_file(out, "--out"))
         if bins < 1:
             raise UserInputError(f"--bins: expected a whole number ≥ 1, got {bins}")
         report = build_report(source, switch_value(v2x), bins, chosen, seed)
@@ -73,7 +74,7 @@ def check_report_option(report_path: Path | None) -> None:
     if report_path is not None:
         from vrusim.report import check_output
 
-        check_output(report_path, "--report")
+        check_output(check_output_file(report_path, "--report"), "--report")
 
 
 def write_report_option(report_path: Path | None, build: Callable[[], Report], quiet: bool = False) -> None:

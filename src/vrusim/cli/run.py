@@ -78,6 +78,9 @@ def run_command(
 
         chosen = one_planner(planner, "run")
         if trace is not None:
+            from vrusim.io.paths import check_output_file
+
+            check_output_file(trace, "--trace")
             with named_errors("--trace"):
                 check_trace_path(trace)
         check_run_outputs(plot, animate)

@@ -223,7 +223,9 @@ def summarize_command(
                 if value is not None:
                     raise UserInputError(f"{option}: only used with --plot OUT.png|OUT.svg|OUT.pdf")
         else:
-            check_plot_path(plot)
+            from vrusim.io.paths import check_output_file
+
+            check_plot_path(check_output_file(plot, "--plot"))
             if x is None:
                 raise UserInputError("--plot: needs --x PARAMETER (and --y PARAMETER for a heat map)")
         chosen = split_names(metrics, "--metrics") if metrics is not None else None

@@ -115,15 +115,15 @@ def sweep_command(
         try:
             result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress, force)
         except KeyboardInterrupt:
-            bar.stop()
+            _stop(bar)
             typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
             raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
         except SweepAbortedError as error:
-            bar.stop()
+            _stop(bar)
             typer.echo(f"Error: {error}; finished batches are saved in {out}; continue with --resume.", err=True)
             raise typer.Exit(1) from None
         finally:
-            bar.stop()
+            _stop(bar)
     for warning in result.warnings:
         typer.echo(f"Warning: {warning}", err=True)
     document = {
@@ -144,6 +144,12 @@ def sweep_command(
         f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
         f"Summarize with: vrusim summarize {result.folder}"
     )
+
+
+def _stop(bar: Progress) -> None:
+    """Stop the progress bar if it was shown (stopping one never started prints an empty line)."""
+    if bar.live.is_started:
+        bar.stop()
 
 
 def _check_modes(force: bool, resume: bool, dry_run: bool, seed: int | None) -> None:

@@ -1,7 +1,8 @@
 """Atomic file writes: write a temporary file in the target's folder, then rename it over the target.
 
 A failure (a missing or read-only folder, a full disk, an exception in the writer) never leaves a
-half-written target or a stray temporary file behind; an existing target stays as it was.
+half-written target or a stray temporary file behind; an existing target stays as it was. Every OSError
+becomes one UserInputError naming the file (shortened) and the system's reason (`vrusim.io.paths`).
 """
 
 from __future__ import annotations
@@ -11,7 +12,10 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
-from vrusim.errors import UserInputError
+from vrusim.io.paths import WriteError, cannot_write, shown
+
+TEMP_NAME_CHARS = 64
+"""At most this many characters of the target's name go into its temporary file's name (which must fit too)."""
 
 
 def _default_file_mode() -> int:
@@ -20,31 +24,27 @@ def _default_file_mode() -> int:
     return 0o666 & ~mask
 
 
+def _temporary(path: Path, what: str) -> Path:
+    """A new empty temporary file next to `path` (`.NAME.XXXX.tmp`); a folder at `path` is a user error."""
+    if path.is_dir():
+        raise WriteError(f"{shown(path)}: cannot write {what}, it is a folder")
+    handle, temp_name = tempfile.mkstemp(prefix=f".{path.name[:TEMP_NAME_CHARS]}.", suffix=".tmp", dir=path.parent)
+    os.close(handle)
+    return Path(temp_name)
+
+
+def run_writer(write: Callable[[Path], None], temp: Path) -> None:
+    """Run one writer on its temporary file (the one place file contents are written; tests replace it to
+    simulate a full disk)."""
+    write(temp)
+
+
 def write_atomically(path: str | Path, write: Callable[[Path], None], what: str = "file") -> Path:
     """Run `write(temp)` on a temporary file next to `path`, then replace `path` with it; return `path`.
 
     An OSError (also from `write`) becomes a UserInputError naming the file; anything else propagates.
     """
-    path = Path(path)
-    if path.is_dir():
-        raise UserInputError(f"{path}: cannot write {what}, it is a folder")
-    try:
-        handle, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as error:
-        raise UserInputError(f"{path}: cannot write {what} ({error.strerror or error})") from None
-    os.close(handle)
-    temp = Path(temp_name)
-    try:
-        write(temp)
-        os.chmod(temp, _default_file_mode())
-        os.replace(temp, path)
-    except OSError as error:
-        temp.unlink(missing_ok=True)
-        raise UserInputError(f"{path}: cannot write {what} ({error.strerror or error})") from None
-    except BaseException:
-        temp.unlink(missing_ok=True)
-        raise
-    return path
+    return write_together([(Path(path), write, what)])[0]
 
 
 def write_together(targets: list[tuple[Path, Callable[[Path], None], str]]) -> list[Path]:
@@ -54,18 +54,20 @@ def write_together(targets: list[tuple[Path, Callable[[Path], None], str]]) -> l
     temps: list[Path] = []
     try:
         for path, write, what in targets:
-            if path.is_dir():
-                raise UserInputError(f"{path}: cannot write {what}, it is a folder")
             try:
-                handle, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-                os.close(handle)
-                temps.append(Path(temp_name))
-                write(temps[-1])
+                temps.append(_temporary(path, what))
+            except (OSError, ValueError) as error:  # ValueError: a null byte in the name
+                raise cannot_write(path, what, error) from None
+            try:
+                run_writer(write, temps[-1])
                 os.chmod(temps[-1], _default_file_mode())
             except OSError as error:
-                raise UserInputError(f"{path}: cannot write {what} ({error.strerror or error})") from None
-        for temp, (path, _, _) in zip(temps, targets, strict=True):
-            os.replace(temp, path)
+                raise cannot_write(path, what, error) from None
+        for temp, (path, _, what) in zip(temps, targets, strict=True):
+            try:
+                os.replace(temp, path)
+            except OSError as error:
+                raise cannot_write(path, what, error) from None
     finally:
         for temp in temps:
             temp.unlink(missing_ok=True)

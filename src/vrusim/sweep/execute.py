@@ -15,14 +15,18 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from types import ModuleType
+from typing import Any
 
 import pyarrow as pa
 
 from vrusim.errors import UserInputError
 from vrusim.extras import extra
+from vrusim.io.paths import shown
 from vrusim.sweep.chunk import ChunkTask, run_chunk
 
 MAX_POOL_RESTARTS = 3
+CONNECT_TIMEOUT_S = 10
+"""Seconds to wait for a Dask scheduler to answer."""
 IN_FLIGHT_PER_WORKER = 2
 """Batches queued per local worker: keeps workers busy while bounding memory to a few batches each."""
 
@@ -103,22 +107,31 @@ def dask_distributed() -> ModuleType:
     return distributed
 
 
-def run_dask(tasks: Iterable[ChunkTask], scheduler: str, on_done: OnDone) -> None:
-    """Every batch on the Dask cluster at `scheduler` (tcp://host:port); this process writes the results."""
+def connect_dask(scheduler: str) -> Any:
+    """A client of the Dask cluster at `scheduler` (tcp://host:port). A malformed or unreachable address is a
+    UserInputError naming --scheduler: call it before anything is written."""
     distributed = dask_distributed()
+    if not scheduler.strip():
+        raise UserInputError("--scheduler: expected the address of a Dask scheduler, e.g. tcp://HOST:PORT")
     try:
-        client = distributed.Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError) as error:
-        raise UserInputError(f"--scheduler: cannot connect to the Dask scheduler at {scheduler} ({error})") from None
-    try:
-        batches = [_with_threads(task, 1) for task in tasks]
-        futures = {
-            client.submit(run_chunk, task, key=f"vrusim-{task.plan_digest[:16]}-{task.index}", pure=False): task
-            for task in batches
-        }
-        for future in distributed.as_completed(futures):
-            task = futures.pop(future)
-            on_done(task, future.result())
-            future.release()
-    finally:
-        client.close()
+        return distributed.Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
+    except Exception as error:  # any refusal of the user's address: malformed, unknown host, nothing listening
+        reason = shown(str(error) or type(error).__name__)
+        raise UserInputError(
+            f"--scheduler: cannot connect to the Dask scheduler at {shown(scheduler)} ({reason})"
+        ) from None
+
+
+def run_dask(tasks: Iterable[ChunkTask], client: Any, on_done: OnDone) -> None:
+    """Every batch on the Dask cluster of `client` (`connect_dask`); this process writes the results. The caller
+    closes the client."""
+    distributed = dask_distributed()
+    batches = [_with_threads(task, 1) for task in tasks]
+    futures = {
+        client.submit(run_chunk, task, key=f"vrusim-{task.plan_digest[:16]}-{task.index}", pure=False): task
+        for task in batches
+    }
+    for future in distributed.as_completed(futures):
+        task = futures.pop(future)
+        on_done(task, future.result())
+        future.release()

@@ -15,11 +15,12 @@ import numpy as np
 import pyarrow as pa
 
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_name
 from vrusim.planners.registry import make_planner, plugin_source
 from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
-from vrusim.sweep.execute import dask_distributed, run_dask, run_processes, run_serial
+from vrusim.sweep.execute import connect_dask, run_dask, run_processes, run_serial
 from vrusim.sweep.plan import SweepPlan, VariantBuilder, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
@@ -231,20 +232,72 @@ def run_sweep(
     replace: bool = False,
 ) -> SweepResult:
     """Run (or resume) a sweep into `out` (`replace`: a previous sweep's results there are deleted once the new
-    sweep is planned and checked); returns counts and timing. Bad input raises UserInputError."""
+    sweep is planned and checked); returns counts and timing. Bad input raises UserInputError, before anything is
+    written when it can be found then (the folder, the spec, the scheduler); a new sweep that fails before its
+    first batch is stored leaves nothing behind (docs/errors.md)."""
     if workers < 1:
         raise UserInputError("--workers: expected a positive number of worker processes")
-    if scheduler:
-        dask_distributed()  # a missing extra is said before the output folder is made
     started = time.perf_counter()
-    store = SweepStore(out)
+    store = SweepStore(check_name(out, "--out"))
+    if not resume:
+        store.check_new(replace)
+    client = connect_dask(scheduler) if scheduler is not None else None  # before the output folder is made
+    try:
+        return _run(spec, store, client, workers, batch_size, resume, progress, replace, started)
+    finally:
+        if client is not None:
+            client.close()
+
+
+def _run(
+    spec: SweepSpec | None,
+    store: SweepStore,
+    client: Any,
+    workers: int,
+    batch_size: int | None,
+    resume: bool,
+    progress: Progress | None,
+    replace: bool,
+    started: float,
+) -> SweepResult:
     warnings: list[str] = []
     plan, design = _open(spec, store, resume, batch_size, warnings, replace)
+    try:
+        pending, finished, done_variants = _execute(plan, design, store, client, workers, progress)
+    except UserInputError:
+        if not resume and not store.finished():  # nothing worth resuming: leave no trace of this run
+            store.discard()
+        raise
+    _, duplicated, missing = check_exactly_once(store.variant_ids(), plan.variants)
+    if duplicated or missing:  # pragma: no cover (a bug: batches are written once, atomically)
+        raise RuntimeError(f"{store.folder}: {duplicated} variants stored twice, {missing} missing")
+    already_done = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
+    return SweepResult(
+        store.folder,
+        plan.variants,
+        plan.chunks,
+        len(pending),
+        len(finished),
+        int(done_variants - already_done),
+        time.perf_counter() - started,
+        warnings,
+    )
+
+
+def _execute(
+    plan: SweepPlan,
+    design: dict[str, np.ndarray],
+    store: SweepStore,
+    client: Any,
+    workers: int,
+    progress: Progress | None,
+) -> tuple[list[int], set[int], int]:
+    """Run the batches missing from `store`, writing each as it finishes: (pending, finished before, variants
+    done now in all)."""
     store.clean_temporary()
     finished = store.finished()
     pending = [i for i in range(plan.chunks) if i not in finished]
     done_variants = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
-    already_done = done_variants
     if progress:
         progress(int(done_variants), plan.variants)
 
@@ -256,22 +309,10 @@ def run_sweep(
             progress(int(done_variants), plan.variants)
 
     tasks = _tasks(plan, design, pending)
-    if scheduler:
-        run_dask(tasks, scheduler, on_done)
+    if client is not None:
+        run_dask(tasks, client, on_done)
     elif workers == 1:
         run_serial(tasks, on_done)
     else:
         run_processes(tasks, workers, on_done)
-    _, duplicated, missing = check_exactly_once(store.variant_ids(), plan.variants)
-    if duplicated or missing:  # pragma: no cover (a bug: batches are written once, atomically)
-        raise RuntimeError(f"{store.folder}: {duplicated} variants stored twice, {missing} missing")
-    return SweepResult(
-        store.folder,
-        plan.variants,
-        plan.chunks,
-        len(pending),
-        len(finished),
-        int(done_variants - already_done),
-        time.perf_counter() - started,
-        warnings,
-    )
+    return pending, finished, int(done_variants)

@@ -26,6 +26,7 @@ import numpy as np
 from pydantic import Field, ValidationError, model_validator
 
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_name
 from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
 from vrusim.scenario.loading import field_path
@@ -335,7 +336,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     check_limit("sweep_variants", document.samples, "samples")
     check_limit("sweep_variants", grid_points * document.samples, f"samples x {grid_points:,} grid points")
     correlations = parse_correlations(document.correlation, parameters)
-    base_file = None if document.base is None else (folder / document.base)
+    base_file = None if document.base is None else check_name(folder / document.base, f"{source}: base")
     return SweepSpec(
         name=document.name or Path(source).stem,
         description=document.description,

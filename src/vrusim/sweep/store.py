@@ -24,6 +24,7 @@ import pyarrow.parquet as pq
 
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
+from vrusim.io.paths import check_output_folder, for_option, make_folder, remove_folders, shown
 
 FORMAT = "vrusim-sweep/1"
 MANIFEST = "manifest.json"
@@ -43,6 +44,8 @@ class SweepStore:
     def __init__(self, folder: str | Path) -> None:
         self.folder = Path(folder)
         self.chunks = self.folder / CHUNKS
+        self._created: list[Path] = []
+        """The folders `create` made (removed again by `discard`)."""
 
     @property
     def manifest_path(self) -> Path:
@@ -50,18 +53,19 @@ class SweepStore:
 
     def check_new(self, replace: bool = False) -> None:
         """Refuse a folder that cannot take a new sweep: a file, or a folder that is not empty, unless `replace` and
-        it holds a previous sweep's results."""
+        it holds a previous sweep's results; or a path that cannot be a folder to write into (`vrusim.io.paths`)."""
+        check_output_folder(self.folder, "--out")
         if not self.folder.exists() or (self.folder.is_dir() and not any(self.folder.iterdir())):
             return
         if not self.folder.is_dir() or not replace:
             raise UserInputError(
-                f"--out: {self.folder} already exists and is not empty; use --resume to continue the sweep in it, "
-                "--force to replace it, or choose a new folder"
+                f"--out: {shown(self.folder)} already exists and is not empty; use --resume to continue the sweep in "
+                "it, --force to replace it, or choose a new folder"
             )
         if not self.manifest_path.is_file():
             raise UserInputError(
-                f"--out: {self.folder} is not empty and holds no sweep results (no {MANIFEST}); --force replaces "
-                "only a previous sweep, choose a new folder"
+                f"--out: {shown(self.folder)} is not empty and holds no sweep results (no {MANIFEST}); --force "
+                "replaces only a previous sweep, choose a new folder"
             )
 
     def remove(self) -> None:
@@ -77,13 +81,24 @@ class SweepStore:
         self.check_new(replace)
         if replace:
             self.remove()
-        try:
-            self.chunks.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise UserInputError(f"--out: cannot create {self.chunks} ({error.strerror or error})") from None
-        write_atomically(self.folder / DESIGN, lambda path: pq.write_table(design, path), "sweep design")
+        self._created = make_folder(self.chunks, "--out")
         text = json.dumps({"format": FORMAT, **manifest}, indent=2, allow_nan=False, default=str)  # YAML dates
-        write_atomically(self.manifest_path, lambda path: path.write_text(text + "\n"), "sweep manifest")
+        try:
+            with for_option("--out"):
+                write_atomically(self.folder / DESIGN, lambda path: pq.write_table(design, path), "sweep design")
+                write_atomically(self.manifest_path, lambda path: path.write_text(text + "\n"), "sweep manifest")
+        except BaseException:
+            self.discard()
+            raise
+
+    def discard(self) -> None:
+        """Undo `create` when the new sweep fails before its first batch is stored: delete its files and the
+        folders it made (a folder that existed before stays, as does anything `create` did not write)."""
+        try:
+            self.remove()
+        except OSError:  # pragma: no cover (a folder turned read-only meanwhile: leave what is there)
+            return
+        remove_folders(self._created)
 
     def manifest(self) -> dict[str, Any]:
         """The manifest of an existing results folder."""
@@ -125,7 +140,10 @@ class SweepStore:
 
     def write_chunk(self, index: int, table: pa.Table) -> Path:
         """Write batch `index` atomically."""
-        return write_atomically(self.chunks / chunk_name(index), lambda path: pq.write_table(table, path), "results")
+        with for_option("--out"):
+            return write_atomically(
+                self.chunks / chunk_name(index), lambda path: pq.write_table(table, path), "results"
+            )
 
     def chunk_files(self) -> list[Path]:
         """The finished batch files, in batch order."""
