@@ -32,7 +32,7 @@ LIMITS: dict[str, Limit] = {
     "coordinate_m": Limit(100_000, "m", "|x| or |y| of a position, a field x_m or y_m"),
     "length_m": Limit(100_000, "m", "a length or distance, a field ending in _m, or a VRU path's total length"),
     "speed_mps": Limit(150, "m/s", "a speed, a field ending in _mps"),
-    "accel_mps2": Limit(100, "m/s^2", "an acceleration, a field ending in _mps2"),
+    "accel_mps2": Limit(10_000, "m/s^2", "an acceleration, a field ending in _mps2"),
     # work budgets, checked before the work starts
     "sweep_variants": Limit(10_000_000, "variants", "variants of one sweep (grid points x samples)"),
     "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
