@@ -98,13 +98,19 @@ def test_a_scenario_with_many_bad_fields_lists_a_few():
     assert len(lines) == 10 and lines[-1] == "  ... and 42 more"
 
 
-@pytest.mark.parametrize("command", ["run"])
-def test_a_path_beyond_the_os_limit_is_a_user_error(tmp_path, command):
-    long_path = str(tmp_path / ("x" * 5000 + ".yaml"))
-    args = (command, long_path) if command == "run" else (command, long_path, "--out", tmp_path / "r.html")
-    result = invoke(*args)
-    assert_user_error(result, "SOURCE", "File name too long")
-    assert len(result.output) < 400 and not (tmp_path / "r.html").exists()
+@pytest.mark.parametrize(
+    ("command", "argument", "name"),
+    [("run", "SOURCE", "x" * 5000 + ".yaml"), ("report", "SOURCE", "x" * 300), ("summarize", "RESULTS", "x" * 300),
+     ("compare", "SOURCE", "x" * 300), ("export", "SOURCE", "x" * 300)],
+)  # fmt: skip
+def test_a_path_beyond_the_os_limit_is_a_user_error(tmp_path, command, argument, name):
+    """Class 6, inputs: a source or results folder whose name the OS cannot use (report and summarize were found
+    by the fuzz campaign)."""
+    long_path = str(tmp_path / name)
+    extra = {"report": ("--out", tmp_path / "r.html"), "export": ("--format", "openscenario", "--out", tmp_path / "x")}
+    result = invoke(command, long_path, *extra.get(command, ()))
+    assert_user_error(result, argument, "File name too long")
+    assert len(result.output) < 400 and not (tmp_path / "r.html").exists() and not (tmp_path / "x").exists()
 
 
 def test_a_null_byte_in_a_sweep_base_is_a_user_error(tmp_path):

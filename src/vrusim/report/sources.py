@@ -12,6 +12,7 @@ from pathlib import Path
 
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
+from vrusim.io.paths import check_name
 from vrusim.report.page import Report, render
 from vrusim.sources import is_bundled_name, scenario_file, single_test
 
@@ -41,7 +42,7 @@ def source_kind(source: str, argument: str = "SOURCE") -> SourceKind:
     if is_bundled_name(source):
         scenario_file(source, argument)  # a bundled scenario, or a user error with close names
         return SourceKind.run
-    path = Path(source)
+    path = check_name(source, argument)  # a null byte or a name too long: not a file, not an id
     if not path.exists():
         if path.suffix.lower() in SCENARIO_SUFFIXES:
             raise UserInputError(f"{argument}: {source} not found; expected {EXPECTED}")

@@ -23,6 +23,7 @@ from typing import Any
 import duckdb
 
 from vrusim.errors import UserInputError
+from vrusim.io.paths import check_name
 from vrusim.studies.compare import wilson_interval
 
 FORMAT = "vrusim-sweep/1"
@@ -182,7 +183,7 @@ def chunk_files(directory: Path) -> list[Path]:
 
 
 def _open(directory: str | Path, con: duckdb.DuckDBPyConnection) -> SweepResults:
-    directory = Path(directory)
+    directory = check_name(directory, "RESULTS")
     if not directory.exists():
         raise UserInputError(f"{directory}: results directory not found")
     if not directory.is_dir():
