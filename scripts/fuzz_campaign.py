@@ -1,6 +1,6 @@
 """Fuzz campaign (issue 18), run outside CI: thousands of malformed scenario files, sweep specs and command lines.
 
-    python scripts/fuzz_campaign.py                      # 1,200 inputs of each kind: 3,600 in all
+    python scripts/fuzz_campaign.py                      # 1,200 inputs of each of 4 kinds: 4,800 in all
     python scripts/fuzz_campaign.py --examples 200 --kinds cli --json
 
 The generators are the suite's (`tests/fuzz_inputs.py`; `tests/test_fuzz.py` runs a fixed few in CI). Each kind
@@ -24,7 +24,7 @@ from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-KINDS = ("scenario", "sweep", "cli")
+KINDS = ("scenario", "physics", "sweep", "cli")
 
 
 class HangError(Exception):
@@ -41,7 +41,15 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
     from hypothesis import HealthCheck, given, settings
     from hypothesis import seed as hypothesis_seed
 
-    from fuzz_inputs import cli_arguments, invoke_cli, scenario_texts, sweep_texts, with_folder
+    from fuzz_inputs import (
+        cli_arguments,
+        finite_results,
+        invoke_cli,
+        physics_texts,
+        scenario_texts,
+        sweep_texts,
+        with_folder,
+    )
 
     counts: Counter = Counter()
     failures: list[dict] = []
@@ -80,6 +88,9 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
         elif not verdict.acceptable:
             counts["unclear"] += 1
             failures.append({"why": f"exit {verdict.exit_code}: {verdict.output[-300:]}", "args": args[:3]})
+        elif verdict.exit_code == 0 and not finite_results(verdict.output):
+            counts["non-finite results"] += 1
+            failures.append({"why": "NaN or infinity in the results", "args": args[:3]})
 
     common = settings(
         max_examples=examples,
@@ -96,8 +107,8 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
             one(args, None)
 
     else:
-        texts = scenario_texts() if kind == "scenario" else sweep_texts()
-        command = ["run", "{file}", "--json"] if kind == "scenario" else ["sweep", "{file}", "--dry-run", "--json"]
+        texts = {"scenario": scenario_texts, "physics": physics_texts, "sweep": sweep_texts}[kind]()
+        command = ["sweep", "{file}", "--dry-run", "--json"] if kind == "sweep" else ["run", "{file}", "--json"]
 
         @hypothesis_seed(seed)
         @common
@@ -114,7 +125,7 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--examples", type=int, default=1200, help="inputs per kind (default 1200)")
-    parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated: scenario, sweep, cli")
+    parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated: " + ", ".join(KINDS))
     parser.add_argument("--timeout", type=float, default=20.0, help="seconds before an input counts as a hang")
     parser.add_argument("--max-memory-mb", type=float, default=1024.0, help="peak memory allowed per child, MB")
     parser.add_argument("--seed", type=int, default=2026, help="hypothesis seed (a campaign is reproducible)")
@@ -144,7 +155,8 @@ def main() -> int:
     for report in reports:
         total.update(report["counts"])
     peak = max((r["peak_rss_mb"] or 0.0) for r in reports)
-    passed = not total["tracebacks"] and not total["hangs"] and not total["crashed"] and peak <= args.max_memory_mb
+    failed = ("tracebacks", "hangs", "crashed", "unclear", "non-finite results")
+    passed = not any(total[name] for name in failed) and peak <= args.max_memory_mb
     summary = {"total": dict(total), "peak_rss_mb": peak, "wall_s": round(time.perf_counter() - started, 1),
                "passed": passed, "kinds": reports}  # fmt: skip
     if args.json:

@@ -140,6 +140,56 @@ def corrupted_text(draw: st.DrawFn, text: str) -> str:
     return text + line * draw(st.sampled_from((1, 100)))
 
 
+UNIT_RANGES = (
+    (("x_m", "y_m"), (-1e5, 1e5)),
+    (("_mps2",), (0.0, 1e4)),
+    (("_mps",), (0.0, 150.0)),
+    (("_m",), (0.0, 1e5)),
+    (("_deg",), (-720.0, 720.0)),
+    (("_s",), (0.0, 100.0)),
+)
+"""Ranges drawn for a numeric field by the unit in its name: inside vrusim's physical bounds (docs/limits.md)."""
+RUN_RANGES = {"duration_s": (0.01, 5.0), "dt_s": (0.001, 0.1)}
+"""Fields of `sim` kept small so that an extreme scenario still runs in a second or two."""
+
+
+def _numeric_paths(value: Any, prefix: tuple = ()) -> list[tuple]:
+    """Paths to every int or float (not bool) inside `value`."""
+    return [
+        path
+        for path in _paths(value, prefix)
+        if isinstance(_parent(value, path)[path[-1]], int | float)
+        and not isinstance(_parent(value, path)[path[-1]], bool)
+    ]
+
+
+def _unit_range(name: str) -> tuple[float, float]:
+    if name in RUN_RANGES:
+        return RUN_RANGES[name]
+    for suffixes, bounds in UNIT_RANGES:
+        if name in suffixes or name.endswith(suffixes):
+            return bounds
+    return (-1e6, 1e6)
+
+
+@st.composite
+def extreme_physics(draw: st.DrawFn, base: dict) -> dict:
+    """`base` with one to four numeric fields set to extreme values that are still inside the physical bounds
+    (a range's ends, 0, tiny and huge): valid or refused by a cross-field check, never a crash or a NaN."""
+    document = copy.deepcopy(base)
+    for path in draw(st.lists(st.sampled_from(_numeric_paths(document)), min_size=1, max_size=4, unique=True)):
+        name = next((key for key in reversed(path) if isinstance(key, str)), "")
+        low, high = _unit_range(name)
+        value = draw(st.sampled_from((low, high, 0.0, 1e-9)) | st.floats(low, high, allow_nan=False))
+        _parent(document, path)[path[-1]] = value
+    return document
+
+
+def physics_texts() -> st.SearchStrategy[str]:
+    """Valid-looking scenario files with extreme values inside the physical bounds."""
+    return extreme_physics(base_scenario()).map(dump)
+
+
 def base_scenario() -> dict:
     """The paper's pedestrian case, shortened to `SHORT_RUN_S`."""
     document = yaml.safe_load(BASE_SCENARIO.read_text(encoding="utf-8"))

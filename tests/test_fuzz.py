@@ -1,5 +1,6 @@
-"""Fuzz test (issue 18): malformed scenario files, sweep specs and command lines get a result or one clear error
-(exit 2 with a message), never a traceback, and results never hold NaN or infinity.
+"""Fuzz test (issue 18): malformed scenario files, scenarios with extreme values inside the physical bounds, sweep
+specs and command lines get a result or one clear error (exit 2 with a message), never a traceback, and results
+never hold NaN or infinity.
 
 A fixed number of examples per run keeps the CI time bounded (about 30 s); `scripts/fuzz_campaign.py` runs the
 same generators thousands of times outside CI and measures hangs and memory too.
@@ -12,7 +13,15 @@ from pathlib import Path
 
 from hypothesis import HealthCheck, given, settings
 
-from fuzz_inputs import cli_arguments, finite_results, invoke_cli, scenario_texts, sweep_texts, with_folder
+from fuzz_inputs import (
+    cli_arguments,
+    finite_results,
+    invoke_cli,
+    physics_texts,
+    scenario_texts,
+    sweep_texts,
+    with_folder,
+)
 
 
 def fuzz(examples: int) -> settings:
@@ -44,6 +53,12 @@ def _answer(args: list[str], text: str | None = None) -> None:
 @fuzz(80)
 @given(text=scenario_texts())
 def test_malformed_scenario_files_get_a_result_or_one_clear_error(text):
+    _answer(["run", "FILE", "--json"], text)
+
+
+@fuzz(40)
+@given(text=physics_texts())
+def test_extreme_but_bounded_physics_runs_with_finite_results_or_one_clear_error(text):
     _answer(["run", "FILE", "--json"], text)
 
 
