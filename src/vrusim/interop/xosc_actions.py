@@ -1,0 +1,81 @@
+"""Read the private actions vrusim imports: TeleportAction, SpeedAction (absolute target) and
+FollowTrajectoryAction with a polyline.
+
+A speed action is a step (at once) or linear at a rate (m/s^2); other dynamics and relative targets are
+refused. A trajectory is a `<Polyline>` of positions, inline (no catalog reference), not closed, with no
+timing (`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, controllers, ...) is
+refused, naming the element and its line.
+"""
+
+from __future__ import annotations
+
+from vrusim.interop.xml_file import Element
+from vrusim.interop.xodr_model import Network
+from vrusim.interop.xosc_document import XoscDocument
+from vrusim.interop.xosc_model import WorldPose
+from vrusim.interop.xosc_positions import read_position
+
+PRIVATE_ACTIONS = {"TeleportAction", "LongitudinalAction", "RoutingAction"}
+
+
+def teleport(doc: XoscDocument, action: Element, network: Network) -> WorldPose:
+    """The pose of a `<TeleportAction>`."""
+    return read_position(doc, doc.single(action, {"Position"}), network)
+
+
+def speed(doc: XoscDocument, action: Element) -> tuple[float, float | None]:
+    """(target speed m/s, rate m/s^2 or None for a step) of a `<LongitudinalAction>` holding a SpeedAction."""
+    speed_action = doc.single(action, {"SpeedAction"})
+    doc.children(speed_action, {"SpeedActionDynamics", "SpeedActionTarget"})
+    dynamics = doc.child(speed_action, "SpeedActionDynamics")
+    doc.children(dynamics, set())
+    target = doc.single(doc.child(speed_action, "SpeedActionTarget"), {"AbsoluteTargetSpeed"})
+    doc.children(target, set())
+    value = doc.number(target, "value")
+    shape = doc.choice(dynamics, "dynamicsShape", ("step", "linear"))
+    if shape == "step":
+        return value, None
+    doc.choice(dynamics, "dynamicsDimension", ("rate",))
+    rate = abs(doc.number(dynamics, "value"))
+    if rate == 0.0:
+        raise doc.fail(dynamics, "a linear speed change needs a rate > 0")
+    return value, rate
+
+
+def _polyline(doc: XoscDocument, trajectory: Element, network: Network) -> tuple[WorldPose, ...]:
+    doc.children(trajectory, {"ParameterDeclarations", "Shape"})
+    if doc.choice(trajectory, "closed", ("false", "true", "0", "1")) in ("true", "1"):
+        raise doc.fail(trajectory, "a closed trajectory is not supported")
+    polyline = doc.single(doc.child(trajectory, "Shape"), {"Polyline"})
+    vertices = []
+    for vertex in doc.children(polyline, {"Vertex"}):
+        vertices.append(read_position(doc, doc.single(vertex, {"Position"}), network))
+    if len(vertices) < 2:
+        raise doc.fail(polyline, "needs at least two <Vertex>")
+    return tuple(vertices)
+
+
+def follow_trajectory(doc: XoscDocument, action: Element, network: Network) -> tuple[tuple[WorldPose, ...], float]:
+    """(polyline vertices, initial distance offset m) of a `<RoutingAction>` holding a FollowTrajectoryAction."""
+    follow = doc.single(action, {"FollowTrajectoryAction", "AssignRouteAction", "AcquirePositionAction"})
+    if follow.tag != "FollowTrajectoryAction":
+        raise doc.fail(follow, "is not supported (vrusim imports routes written as a FollowTrajectoryAction polyline)")
+    doc.children(
+        follow, {"TrajectoryRef", "Trajectory", "CatalogReference", "TimeReference", "TrajectoryFollowingMode"}
+    )
+    holder = follow.first("TrajectoryRef") or follow
+    trajectory = doc.single(holder, {"Trajectory", "CatalogReference"}) if holder is not follow else None
+    if trajectory is None:
+        reference = follow.first("CatalogReference")
+        if reference is not None:
+            raise doc.fail(reference, "(a catalog reference) is not supported; write the trajectory inline")
+        trajectory = doc.child(follow, "Trajectory")
+    if trajectory.tag == "CatalogReference":
+        raise doc.fail(trajectory, "(a catalog reference) is not supported; write the trajectory inline")
+    timing = doc.single(doc.child(follow, "TimeReference"), {"None", "Timing"})
+    if timing.tag != "None":
+        raise doc.fail(timing, "is not supported: a trajectory is followed at the entity's own speed")
+    mode = doc.child(follow, "TrajectoryFollowingMode")
+    doc.choice(mode, "followingMode", ("position", "follow"))
+    offset = doc.number(follow, "initialDistanceOffset", 0.0)
+    return _polyline(doc, trajectory, network), offset

@@ -1,0 +1,130 @@
+"""Strict access to an OpenSCENARIO element tree: parameter references resolved, unknown children refused.
+
+Attribute values may be a parameter reference, `$name` or `${name}`, to a `<ParameterDeclaration>` of the file
+(declarations may refer to earlier ones). Expressions (`${$a + 1}`) are not supported. Every failure is a
+UserInputError naming the file, the line and the element.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from vrusim.errors import UserInputError
+from vrusim.interop.xml_file import Element, shown
+from vrusim.limits import check_limit
+
+_REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
+
+
+class XoscDocument:
+    """One `.xosc` file: its name (for messages) and its declared parameters (name -> resolved value text)."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.parameters: dict[str, str] = {}
+
+    def fail(self, element: Element, message: str) -> UserInputError:
+        """A user error at `element`: file, line, element tag, message."""
+        return UserInputError(f"{self.source}: line {element.line}: <{element.tag}> {message}")
+
+    def unsupported(self, element: Element, where: str | None = None) -> UserInputError:
+        """`element` is outside the subset vrusim imports (docs/openscenario_import.md)."""
+        inside = f" inside <{where}>" if where else ""
+        return self.fail(
+            element, f"is not supported{inside} (vrusim imports the subset in docs/openscenario_import.md)"
+        )
+
+    # ------------------------------------------------------------------------------------------- parameters
+
+    def declare(self, declarations: Element | None) -> None:
+        """Read `<ParameterDeclarations>`: each value resolved against the parameters declared before it."""
+        if declarations is None:
+            return
+        for element in self.children(declarations, {"ParameterDeclaration"}):
+            self.children(element, set())
+            name = self.raw(element, "name")
+            self.parameters[name] = self.text(element, "value")
+
+    def resolve(self, element: Element, name: str, text: str) -> str:
+        """The value of an attribute: a parameter reference replaced by the parameter's value."""
+        if not text.startswith("$"):
+            return text
+        match = _REFERENCE.match(text)
+        if match is None:
+            raise self.fail(element, f"attribute {name}: expression {shown(text)} is not supported (only $name)")
+        parameter = match.group(1) or match.group(2)
+        if parameter not in self.parameters:
+            raise self.fail(element, f"attribute {name}: parameter {shown(parameter)} is not declared")
+        return self.parameters[parameter]
+
+    # ------------------------------------------------------------------------------------------- attributes
+
+    def raw(self, element: Element, name: str, default: str | None = None) -> str:
+        """An attribute as written (no parameter resolution); missing without default is an error."""
+        value = element.attrib.get(name, default)
+        if value is None:
+            raise self.fail(element, f"has no attribute {name!r}")
+        return value
+
+    def text(self, element: Element, name: str, default: str | None = None) -> str:
+        """An attribute, its parameter reference resolved."""
+        return self.resolve(element, name, self.raw(element, name, default))
+
+    def number(self, element: Element, name: str, default: float | None = None) -> float:
+        """A finite number attribute (default when missing and a default is given)."""
+        if name not in element.attrib and default is not None:
+            return default
+        text = self.text(element, name)
+        check_limit("number_chars", len(text), f"{self.source}: line {element.line}: <{element.tag}> {name}")
+        try:
+            value = float(text)
+        except ValueError:
+            raise self.fail(element, f"attribute {name}: expected a number, got {shown(text)}") from None
+        if not math.isfinite(value):
+            raise self.fail(element, f"attribute {name}: expected a finite number, got {shown(text)}")
+        return value
+
+    def choice(self, element: Element, name: str, options: tuple[str, ...], default: str | None = None) -> str:
+        """An attribute that must be one of `options`."""
+        value = self.text(element, name, default)
+        if value not in options:
+            raise self.fail(element, f"attribute {name}: expected one of {', '.join(options)}, got {shown(value)}")
+        return value
+
+    # ------------------------------------------------------------------------------------------- children
+
+    def children(self, element: Element, allowed: set[str]) -> list[Element]:
+        """The children of `element`; any child not in `allowed` is refused."""
+        for child in element.children:
+            if child.tag not in allowed:
+                raise self.unsupported(child, element.tag)
+        return element.children
+
+    def child(self, parent: Element, tag: str) -> Element:
+        """The one child named `tag` (none or several is an error)."""
+        found = parent.all(tag)
+        if len(found) != 1:
+            raise self.fail(parent, f"needs exactly one <{tag}>, has {len(found)}")
+        return found[0]
+
+    def optional(self, parent: Element, tag: str) -> Element | None:
+        """The child named `tag`, or None; several is an error."""
+        found = parent.all(tag)
+        if len(found) > 1:
+            raise self.fail(found[1], f"may appear once inside <{parent.tag}>")
+        return found[0] if found else None
+
+    def single(self, parent: Element, allowed: set[str]) -> Element:
+        """The only child of `parent`, which must be one of `allowed`."""
+        self.children(parent, allowed)
+        if len(parent.children) != 1:
+            raise self.fail(parent, f"needs exactly one of <{'>, <'.join(sorted(allowed))}>")
+        return parent.children[0]
+
+    def properties(self, parent: Element) -> dict[str, str]:
+        """The `<Properties>` of `parent` (name -> value); `<File>` entries are refused."""
+        element = self.optional(parent, "Properties")
+        if element is None:
+            return {}
+        return {self.raw(p, "name"): self.text(p, "value") for p in self.children(element, {"Property"})}

@@ -1,0 +1,87 @@
+"""Import an OpenSCENARIO 1.x file (`.xosc`) of the subset vrusim's export writes as a vrusim `Scenario`.
+
+`read_xosc(path)` reads the file safely (`xml_file`: size limit, no DTD or entities, line numbers), resolves its
+parameters (`xosc_document`), reads the road network its `<RoadNetwork><LogicFile>` names (relative to the
+.xosc; `xodr_reader`), the entities (`xosc_entities`) and the storyboard (`xosc_storyboard`), and builds the
+scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything outside the subset is a UserInputError
+naming the file, the line and the element (docs/openscenario_import.md). The planner, sensor, V2X and
+simulation step are not in the file: the scenario gets vrusim's defaults for them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from vrusim.errors import UserInputError
+from vrusim.interop.xml_file import Element, read_xml_file, shown
+from vrusim.interop.xodr_model import Network
+from vrusim.interop.xodr_reader import read_xodr
+from vrusim.interop.xosc_document import XoscDocument
+from vrusim.interop.xosc_entities import read_entities
+from vrusim.interop.xosc_road import road_fields
+from vrusim.interop.xosc_scenario import ScenarioBuilder
+from vrusim.interop.xosc_storyboard import read_storyboard
+from vrusim.scenario.loading import scenario_from_mapping
+from vrusim.scenario.schema import Scenario
+
+XOSC_SUFFIX = ".xosc"
+_TOP_LEVEL = {"FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork", "Entities", "Storyboard"}
+
+
+def _header(doc: XoscDocument, root: Element, path: Path) -> tuple[str, str]:
+    """(scenario name, description): the header's `vrusim_scenario` property or the file stem; its description."""
+    header = doc.child(root, "FileHeader")
+    doc.children(header, {"Properties", "License"})
+    revision = (doc.raw(header, "revMajor"), doc.raw(header, "revMinor"))
+    if revision[0] != "1":
+        raise doc.fail(header, f"OpenSCENARIO {revision[0]}.{revision[1]} is not supported (1.x is)")
+    name = doc.properties(header).get("vrusim_scenario") or path.stem
+    description = doc.raw(header, "description", "")
+    prefix = f"{name}: "
+    return name, description.removeprefix(prefix).split(" (exported by vrusim")[0]
+
+
+def _road_network(doc: XoscDocument, root: Element, path: Path) -> Network:
+    network = doc.child(root, "RoadNetwork")
+    doc.children(network, {"LogicFile", "SceneGraphFile", "TrafficSignals", "UsedArea"})
+    for child in network.children:
+        if child.tag != "LogicFile" and child.tag != "SceneGraphFile":
+            raise doc.unsupported(child, "RoadNetwork")
+    logic = network.first("LogicFile")
+    if logic is None:
+        raise doc.fail(network, "has no <LogicFile>: vrusim needs the OpenDRIVE road (.xodr)")
+    road_file = path.parent / doc.text(logic, "filepath")
+    if not road_file.is_file():
+        raise doc.fail(logic, f"names {shown(str(road_file))}, which is not a file")
+    return read_xodr(road_file)
+
+
+def _catalogs(doc: XoscDocument, root: Element) -> None:
+    catalogs = root.first("CatalogLocations")
+    if catalogs is not None and catalogs.children:
+        raise doc.fail(catalogs.children[0], "(a catalog) is not supported; write entities and trajectories inline")
+
+
+def parse_root(root: Element, path: Path) -> Scenario:
+    """The scenario of an OpenSCENARIO document (root element), read from `path`."""
+    doc = XoscDocument(str(path))
+    if root.tag != "OpenSCENARIO":
+        raise doc.fail(root, "is not an OpenSCENARIO document (expected <OpenSCENARIO>)")
+    doc.children(root, _TOP_LEVEL)
+    name, description = _header(doc, root, path)
+    doc.declare(root.first("ParameterDeclarations"))
+    _catalogs(doc, root)
+    network = _road_network(doc, root, path)
+    entities = read_entities(doc, doc.child(root, "Entities"))
+    story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities})
+    data = ScenarioBuilder(doc, entities, story).mapping()
+    data = {"name": name, "description": description, "road": road_fields(network)} | data
+    return scenario_from_mapping(data, str(path))
+
+
+def read_xosc(path: str | Path) -> Scenario:
+    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says)."""
+    path = Path(path)
+    if path.suffix.lower() != XOSC_SUFFIX:
+        raise UserInputError(f"{path}: expected an OpenSCENARIO file ({XOSC_SUFFIX})")
+    return parse_root(read_xml_file(path, "OpenSCENARIO"), path)

@@ -1,0 +1,92 @@
+"""What an imported OpenSCENARIO file says, as frozen dataclasses: entities, their initial state and motion.
+
+World frame = vrusim's (x, y in m, heading in rad counter-clockwise from +x), as the export writes it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class WorldPose:
+    """A world position (m) with a heading (rad)."""
+
+    x_m: float
+    y_m: float
+    heading_rad: float
+
+
+@dataclass(frozen=True)
+class EntityDef:
+    """A `<ScenarioObject>`: kind ("vehicle", "pedestrian" or "misc"), its category and its geometry.
+
+    The box is `length_m` x `width_m`, its centre `centre_x_m` ahead of the reference point. Axle and
+    performance fields are None when not given (pedestrians, misc objects).
+    """
+
+    name: str
+    kind: str
+    category: str
+    length_m: float
+    width_m: float
+    centre_x_m: float
+    line: int
+    wheelbase_m: float | None = None
+    max_steer_rad: float | None = None
+    max_accel_mps2: float | None = None
+    max_decel_mps2: float | None = None
+    properties: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Condition:
+    """A start condition: "time" (simulation time >= value s), "travel" (the entity `ref` has travelled value m),
+    "event_start" (event `ref` started, after `delay_s`) or "collision" (the entity `ref` touched `other`)."""
+
+    kind: str
+    value: float = 0.0
+    ref: str = ""
+    other: str = ""
+    delay_s: float = 0.0
+    line: int = 0
+
+
+@dataclass(frozen=True)
+class SpeedChange:
+    """An event's AbsoluteTargetSpeed: reach `target_mps` at `rate_mps2` (None: at once) when `condition` holds."""
+
+    event: str
+    target_mps: float
+    rate_mps2: float | None
+    condition: Condition
+    line: int
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A followed polyline (vertices with headings), started at `offset_m` along it, from `condition`."""
+
+    vertices: tuple[WorldPose, ...]
+    offset_m: float
+    condition: Condition
+    line: int
+
+
+@dataclass
+class Motion:
+    """Everything the file makes one entity do: initial pose and speed, trajectory, speed changes."""
+
+    pose: WorldPose | None = None
+    initial_speed_mps: float | None = None
+    trajectory: Trajectory | None = None
+    speed_changes: list[SpeedChange] = field(default_factory=list)
+
+
+@dataclass
+class StoryDef:
+    """The storyboard: each entity's motion, the stop conditions and the time of day (None: not given)."""
+
+    motions: dict[str, Motion]
+    stop: list[Condition] = field(default_factory=list)
+    night: bool | None = None

@@ -1,0 +1,35 @@
+"""vrusim's `Road` fields from an OpenDRIVE network: layout, lane width and drawn length.
+
+layout: "intersection" when the network has a junction, else "straight". lane_width_m: the width (at its
+start) of the first right lane (id -1) of the first road. length_m: twice the farthest reach of any road end
+from the origin along x or y (the export centres the road on the origin). The road only draws the scene in
+vrusim; it does not change a run.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vrusim.errors import UserInputError
+from vrusim.interop.xodr_geometry import reference_poses
+from vrusim.interop.xodr_model import Network
+
+
+def road_fields(network: Network) -> dict[str, float | str]:
+    """The `Road` fields of `network` (m)."""
+    roads = list(network.roads.values())
+    if not roads:
+        raise UserInputError(f"{network.source or 'OpenDRIVE'}: has no <road>")
+    first = roads[0]
+    lanes = [lane for section in first.sections for lane in section.right if lane.id == -1]
+    if not lanes or not lanes[0].widths:
+        raise UserInputError(f"{network.source or 'OpenDRIVE'}: road {first.id!r} has no right lane -1 with a width")
+    reach = 0.0
+    for road in roads:
+        x, y, _ = reference_poses(road, np.array([0.0, road.length_m]))
+        reach = max(reach, float(np.max(np.abs(x))), float(np.max(np.abs(y))))
+    return {
+        "layout": "intersection" if network.junctions else "straight",
+        "lane_width_m": lanes[0].widths[0].a,
+        "length_m": 2 * reach,
+    }

@@ -1,0 +1,140 @@
+"""Read an OpenSCENARIO `<Storyboard>` into a `StoryDef`: each entity's initial pose and speed, its trajectory and
+speed changes with their start conditions, the stop conditions and the time of day.
+
+Init: TeleportAction, a step SpeedAction, a FollowTrajectoryAction, and a GlobalAction EnvironmentAction with a
+`<TimeOfDay>` (night: before `DAY_STARTS_H` or from `NIGHT_STARTS_H`). Story: acts started at t = 0, maneuver
+groups of one actor, events of private actions (`xosc_actions`), one start condition each (`xosc_conditions`).
+"""
+
+from __future__ import annotations
+
+from datetime import datetime
+
+from vrusim.interop.xml_file import Element, shown
+from vrusim.interop.xodr_model import Network
+from vrusim.interop.xosc_actions import PRIVATE_ACTIONS, follow_trajectory, speed, teleport
+from vrusim.interop.xosc_conditions import read_trigger
+from vrusim.interop.xosc_document import XoscDocument
+from vrusim.interop.xosc_model import Condition, Motion, SpeedChange, StoryDef, Trajectory
+
+DAY_STARTS_H, NIGHT_STARTS_H = 6, 20
+"""Hours (local time of day) between which a `<TimeOfDay>` is daylight; outside them it is night."""
+
+AT_START = Condition("time", 0.0)
+
+
+class _StoryReader:
+    def __init__(self, doc: XoscDocument, network: Network, entities: set[str]) -> None:
+        self.doc, self.network, self.entities = doc, network, entities
+        self.story = StoryDef(motions={name: Motion() for name in entities})
+
+    def motion(self, element: Element, name: str) -> Motion:
+        if name not in self.entities:
+            raise self.doc.fail(element, f"names no entity: {shown(name)}")
+        return self.story.motions[name]
+
+    def private(self, element: Element, name: str, condition: Condition, event: str) -> None:
+        """One `<PrivateAction>` of entity `name`, started by `condition` (in event `event`; "" for Init)."""
+        doc, motion = self.doc, self.motion(element, name)
+        action = doc.single(element, PRIVATE_ACTIONS)
+        if action.tag == "TeleportAction":
+            if event:
+                raise doc.fail(action, "is only supported in <Init>")
+            motion.pose = teleport(doc, action, self.network)
+        elif action.tag == "LongitudinalAction":
+            target, rate = speed(doc, action)
+            if event:
+                motion.speed_changes.append(SpeedChange(event, target, rate, condition, action.line))
+            elif rate is not None:
+                raise doc.fail(action, "an initial speed must be a step (dynamicsShape step)")
+            else:
+                motion.initial_speed_mps = target
+        else:
+            if motion.trajectory is not None:
+                raise doc.fail(action, f"entity {shown(name)} already follows a trajectory")
+            vertices, offset = follow_trajectory(doc, action, self.network)
+            motion.trajectory = Trajectory(vertices, offset, condition, action.line)
+
+    def environment(self, element: Element) -> None:
+        doc = self.doc
+        action = doc.single(element, {"EnvironmentAction"})
+        environment = doc.single(action, {"Environment"})
+        doc.children(environment, {"ParameterDeclarations", "TimeOfDay"})
+        time_of_day = doc.child(environment, "TimeOfDay")
+        text = doc.text(time_of_day, "dateTime")
+        try:
+            hour = datetime.fromisoformat(text).hour
+        except ValueError:
+            raise doc.fail(time_of_day, f"attribute dateTime: expected an ISO 8601 time, got {shown(text)}") from None
+        self.story.night = not DAY_STARTS_H <= hour < NIGHT_STARTS_H
+
+    def init(self, init: Element) -> None:
+        doc = self.doc
+        actions = doc.single(init, {"Actions"})
+        for element in doc.children(actions, {"GlobalAction", "Private"}):
+            if element.tag == "GlobalAction":
+                self.environment(element)
+                continue
+            name = doc.text(element, "entityRef")
+            for action in doc.children(element, {"PrivateAction"}):
+                self.private(action, name, AT_START, "")
+
+    def event(self, element: Element, actor: str) -> None:
+        doc = self.doc
+        doc.children(element, {"Action", "StartTrigger"})
+        name = doc.text(element, "name")
+        condition = read_trigger(doc, doc.child(element, "StartTrigger"), single=True)[0]
+        for action in element.all("Action"):
+            self.private(doc.single(action, {"PrivateAction"}), actor, condition, name)
+
+    def group(self, element: Element) -> None:
+        doc = self.doc
+        doc.children(element, {"Actors", "Maneuver", "CatalogReference"})
+        actors = doc.children(doc.child(element, "Actors"), {"EntityRef"})
+        if len(actors) != 1:
+            raise doc.fail(element, "needs exactly one actor (<EntityRef>)")
+        actor = doc.text(actors[0], "entityRef")
+        for maneuver in element.children:
+            if maneuver.tag == "CatalogReference":
+                raise doc.fail(maneuver, "(a catalog reference) is not supported; write the maneuver inline")
+            if maneuver.tag == "Maneuver":
+                doc.children(maneuver, {"ParameterDeclarations", "Event"})
+                _no_parameters(doc, maneuver)
+                for event in maneuver.all("Event"):
+                    self.event(event, actor)
+
+    def act(self, element: Element) -> None:
+        doc = self.doc
+        doc.children(element, {"ManeuverGroup", "StartTrigger", "StopTrigger"})
+        start = doc.optional(element, "StartTrigger")
+        first = read_trigger(doc, start, single=True)[0] if start is not None else AT_START
+        if start is not None and (first.kind, first.value) != ("time", 0.0):
+            raise doc.fail(start, "an act must start at simulation time 0")
+        stop = doc.optional(element, "StopTrigger")
+        if stop is not None and stop.children:
+            raise doc.fail(stop, "an act's stop trigger is not supported (the storyboard's stops the run)")
+        for group in element.all("ManeuverGroup"):
+            self.group(group)
+
+    def storyboard(self, element: Element) -> StoryDef:
+        doc = self.doc
+        doc.children(element, {"Init", "Story", "StopTrigger"})
+        self.init(doc.child(element, "Init"))
+        for story in element.all("Story"):
+            doc.children(story, {"ParameterDeclarations", "Act"})
+            _no_parameters(doc, story)
+            for act in story.all("Act"):
+                self.act(act)
+        self.story.stop = read_trigger(doc, doc.child(element, "StopTrigger"), single=False)
+        return self.story
+
+
+def _no_parameters(doc: XoscDocument, element: Element) -> None:
+    declarations = element.first("ParameterDeclarations")
+    if declarations is not None and declarations.children:
+        raise doc.fail(declarations, "is not supported here (declare parameters at the top of the file)")
+
+
+def read_storyboard(doc: XoscDocument, storyboard: Element, network: Network, entities: set[str]) -> StoryDef:
+    """The storyboard of the file: every entity of `entities` has a `Motion` (empty when the file gives none)."""
+    return _StoryReader(doc, network, entities).storyboard(storyboard)
