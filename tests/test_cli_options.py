@@ -54,9 +54,11 @@ def test_console_script_and_python_m_use_the_app():
 
 
 def test_one_module_per_command():
-    """Each command lives in its own module of vrusim.cli (`ncap` shares one with its catalogue `list`)."""
+    """Each command lives in its own module of vrusim.cli (`ncap` shares one with its catalogue `list`; `import`, a
+    Python keyword, is `importing`)."""
     modules = {name: command.__module__ for name, command in COMMANDS.items()}
     assert modules["list"] == modules["ncap"] == "vrusim.cli.ncap"
+    assert modules.pop("import") == "vrusim.cli.importing"
     others = {name: module for name, module in modules.items() if name != "list"}
     assert others == {name: f"vrusim.cli.{name}" for name in others}
 

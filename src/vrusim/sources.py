@@ -1,7 +1,7 @@
 """What a user names: one scenario YAML file, a bundled example, Euro NCAP catalogue tests, or a sweep spec.
 
 A scenario SOURCE is
-- a YAML file path;
+- a YAML file path, or an OpenSCENARIO file (`.xosc`, read by `vrusim.interop.xosc_import`);
 - a bundled scenario by name: `paper:<case>` (pedestrian, escooter, motorcyclist) or `example:<name>`;
 - a catalogue test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with
   `night`) or `all`; looked up in the default Euro NCAP edition first, then the others; `2023:` or `2026:` in
@@ -26,6 +26,9 @@ if TYPE_CHECKING:
     from vrusim.ncap.build import NcapTest
 
 YAML_SUFFIXES = (".yaml", ".yml")
+FILE_READERS = {".xosc": "vrusim.interop.xosc_import"}
+"""Scenario files that are not YAML, by suffix: the module whose `read_scenario_file(path)` reads
+them. Named, not imported: the readers live in a higher layer (`interop`), loaded only when such a file is given."""
 PAPER_PREFIX = "paper:"
 EXAMPLE_PREFIX = "example:"
 BUNDLED_PREFIXES = (PAPER_PREFIX, EXAMPLE_PREFIX)
@@ -115,7 +118,7 @@ def is_scenario_file(source: str) -> bool:
     try:
         if "\0" in source:  # Path.exists() would just say False
             raise ValueError("embedded null byte")
-        if not (path.suffix.lower() in YAML_SUFFIXES or path.exists()):
+        if not (path.suffix.lower() in (*YAML_SUFFIXES, *FILE_READERS) or path.exists()):
             return False
         folder = path.is_dir()
     except (OSError, ValueError) as error:  # a name too long for the OS, a null byte, ...
@@ -171,6 +174,18 @@ def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> User
     return UserInputError(f"{argument}: {source!r} is not {expected}{hint}")
 
 
+def load_scenario_file(path: Path) -> Scenario:
+    """The scenario in a file: YAML, or a format of `FILE_READERS` by its suffix."""
+    from importlib import import_module
+
+    from vrusim.scenario.loading import load_scenario
+
+    reader = FILE_READERS.get(path.suffix.lower())
+    if reader is not None:
+        return import_module(reader).read_scenario_file(path)
+    return load_scenario(path)
+
+
 def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
     """The YAML file SOURCE names (a path, or a bundled name: unknown is a user error), or None for a catalogue
     name."""
@@ -182,11 +197,10 @@ def scenario_file(source: str, argument: str = "SOURCE") -> Path | None:
 def resolve_source(source: str, night: bool) -> list[Scenario]:
     """The scenarios SOURCE names: one YAML file or bundled scenario, or catalogue tests (FSM planner, V2X off)."""
     from vrusim.ncap.build import build_test
-    from vrusim.scenario.loading import load_scenario
 
     file = scenario_file(source, "SOURCE")
     if file is not None:
-        return [load_scenario(file)]
+        return [load_scenario_file(file)]
     tests = catalogue_tests(source, night)
     if not tests:
         raise unknown_source(source, "a scenario file, a bundled name, a catalogue test id, code or prefix, or 'all'")
@@ -213,11 +227,10 @@ def single_source(source: str, catalogue_v2x: bool) -> Scenario:
     """The one scenario SOURCE names: a YAML file or bundled scenario (V2X as in it), or one catalogue test id (FSM
     planner; with `catalogue_v2x` the catalogue's roadside unit, switched on)."""
     from vrusim.ncap.build import build_test
-    from vrusim.scenario.loading import load_scenario
 
     file = scenario_file(source, "SOURCE")
     if file is not None:
-        return load_scenario(file)
+        return load_scenario_file(file)
     return build_test(single_test(source), v2x=catalogue_v2x).scenario
 
 
@@ -235,10 +248,8 @@ def scenario_of(
         )
     text = str(source)
     if isinstance(source, Path) or is_bundled_name(text) or is_scenario_file(text):
-        from vrusim.scenario.loading import load_scenario
-
         file = Path(source) if isinstance(source, Path) else scenario_file(text, argument)
-        return apply_v2x_switch(load_scenario(file), v2x, option, str(file))
+        return apply_v2x_switch(load_scenario_file(file), v2x, option, str(file))
     from vrusim.ncap.build import build_test
 
     expected = "a YAML file, a bundled name (`paper:<case>`, `example:<name>`) or a catalogue test id"

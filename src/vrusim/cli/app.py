@@ -1,7 +1,8 @@
 """The `vrusim` command line: the Typer app, its commands (one module each) and the console-script entry point.
 
     vrusim run SOURCE [--planner NAME] [--v2x on|off] [--seed N] [--json] [--trace|--plot|--animate OUT]
-    vrusim paper | ncap | list | compare | sweep | summarize | report | export | examples   (`vrusim CMD --help`)
+    vrusim paper | ncap | list | compare | sweep | summarize | report | export | import | examples
+    (`vrusim CMD --help` for each)
     vrusim --version
 
 Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit
@@ -20,6 +21,7 @@ from vrusim.cli.compare import compare_command
 from vrusim.cli.examples import examples_command
 from vrusim.cli.export import export_command
 from vrusim.cli.help import Command, Group
+from vrusim.cli.importing import import_command
 from vrusim.cli.ncap import list_command, ncap_command
 from vrusim.cli.output import USER_ERROR_EXIT_CODE, report_user_error
 from vrusim.cli.paper import paper_command
@@ -41,6 +43,7 @@ COMMANDS: dict[str, Callable[..., None]] = {
     "summarize": summarize_command,
     "report": report_command,
     "export": export_command,
+    "import": import_command,
     "examples": examples_command,
 }
 """Every command by name, in the order `vrusim --help` lists them."""

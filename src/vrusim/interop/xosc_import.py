@@ -85,3 +85,7 @@ def read_xosc(path: str | Path) -> Scenario:
     if path.suffix.lower() != XOSC_SUFFIX:
         raise UserInputError(f"{path}: expected an OpenSCENARIO file ({XOSC_SUFFIX})")
     return parse_root(read_xml_file(path, "OpenSCENARIO"), path)
+
+
+read_scenario_file = read_xosc
+"""The reader `vrusim.sources` calls for a `.xosc` SOURCE (`sources.FILE_READERS`)."""

@@ -1,0 +1,55 @@
+"""`vrusim import FILE.xosc --out SCENARIO.yaml`: an OpenSCENARIO file (vrusim's export subset) as a scenario YAML.
+
+The road file its `<LogicFile>` names is read from next to it. The YAML holds the fields that differ from
+vrusim's defaults; the planner, sensor, V2X and time step are not in an OpenSCENARIO file and keep the defaults.
+`vrusim run FILE.xosc` runs such a file directly. Supported elements: docs/openscenario_import.md.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+import yaml
+from rich.markup import escape
+
+from vrusim.cli.options import JsonOption, file_option
+from vrusim.cli.output import console, print_json, user_errors
+from vrusim.errors import UserInputError
+from vrusim.io.atomic import write_atomically
+from vrusim.io.paths import check_output_file
+from vrusim.scenario.schema import Scenario
+from vrusim.version import __version__
+
+
+def scenario_yaml_text(scenario: Scenario, source: str) -> str:
+    """The scenario as YAML (fields that differ from the defaults), under a comment naming where it came from."""
+    body = yaml.safe_dump(scenario.model_dump(mode="json", exclude_defaults=True), sort_keys=False, allow_unicode=True)
+    head = f"# Imported from {source} by vrusim {__version__} (planner, sensor, V2X, time step: vrusim's defaults)\n"
+    return head + body
+
+
+def import_command(
+    source: Annotated[
+        Path,
+        typer.Argument(metavar="FILE.xosc", help="OpenSCENARIO file (its .xodr road next to it).", show_default=False),
+    ],
+    out: Annotated[Path, file_option("--out", "SCENARIO.yaml", "The scenario YAML file to write.")],
+    force: Annotated[bool, typer.Option("--force", help="Replace --out if it exists.")] = False,
+    as_json: JsonOption = False,
+) -> None:
+    """Import an OpenSCENARIO file as a vrusim scenario YAML."""
+    with user_errors():
+        from vrusim.interop.xosc_import import read_xosc
+
+        check_output_file(out, "--out")
+        if out.exists() and not force:
+            raise UserInputError(f"--out: {out} exists (--force replaces it)")
+        scenario = read_xosc(source)
+        text = scenario_yaml_text(scenario, source.name)
+        write_atomically(out, lambda path: path.write_text(text, encoding="utf-8"), "scenario YAML file")
+    if as_json:
+        print_json({"scenario": scenario.name, "file": str(out)})
+        return
+    console().print(f"Imported {escape(scenario.name)} from {escape(str(source))} into {escape(str(out))}.")
