@@ -50,9 +50,10 @@ def _road_network(doc: XoscDocument, root: Element, path: Path) -> Network:
     logic = network.first("LogicFile")
     if logic is None:
         raise doc.fail(network, "has no <LogicFile>: vrusim needs the OpenDRIVE road (.xodr)")
-    road_file = path.parent / doc.text(logic, "filepath")
+    name = doc.text(logic, "filepath")
+    road_file = path.parent / name
     if not road_file.is_file():
-        raise doc.fail(logic, f"names {shown(str(road_file))}, which is not a file")
+        raise doc.fail(logic, f"names {shown(name)}, which is not a file next to the .xosc")
     return read_xodr(road_file)
 
 
