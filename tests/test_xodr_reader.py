@@ -15,12 +15,12 @@ from scipy.integrate import quad
 from scipy.special import fresnel
 
 from vrusim.errors import UserInputError
+from vrusim.formats.xodr_geometry import reference_poses
+from vrusim.formats.xodr_lanes import lane_borders_t, lane_position, road_position
+from vrusim.formats.xodr_reader import parse_xodr, read_xodr
+from vrusim.formats.xodr_route import reference_points, route_polyline
 from vrusim.geometry.paths import sample_polyline
 from vrusim.interop.openscenario import export_openscenario, file_stem, road_half_length_m
-from vrusim.interop.xodr_geometry import reference_poses
-from vrusim.interop.xodr_lanes import lane_borders_t, lane_position, road_position
-from vrusim.interop.xodr_reader import parse_xodr, read_xodr
-from vrusim.interop.xodr_route import reference_points, route_polyline
 from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import select
 

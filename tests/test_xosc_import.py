@@ -1,4 +1,4 @@
-"""OpenSCENARIO import (`vrusim.interop.xosc_import`): export -> import round trips give the same runs, and input
+"""OpenSCENARIO import (`vrusim.formats.xosc_import`): export -> import round trips give the same runs, and input
 outside the supported subset is one clear error naming the element."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ pytest.importorskip("scenariogeneration")
 from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
+from vrusim.formats.xosc_import import read_xosc
 from vrusim.interop.openscenario import export_openscenario
-from vrusim.interop.xosc_import import read_xosc
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import select

@@ -1,7 +1,7 @@
 """What a user names: one scenario YAML file, a bundled example, Euro NCAP catalogue tests, or a sweep spec.
 
 A scenario SOURCE is
-- a YAML file path, or an OpenSCENARIO file (`.xosc`, read by `vrusim.interop.xosc_import`);
+- a YAML file path, or an OpenSCENARIO file (`.xosc`, read by `vrusim.formats.xosc_import`);
 - a bundled scenario by name: `paper:<case>` (pedestrian, escooter, motorcyclist) or `example:<name>`;
 - a catalogue test id (`CPNA-25/20kph/day`), a code or prefix (`CPNA-25`, `CPNA`: its day tests, plus night with
   `night`) or `all`; looked up in the default Euro NCAP edition first, then the others; `2023:` or `2026:` in
@@ -26,9 +26,8 @@ if TYPE_CHECKING:
     from vrusim.ncap.build import NcapTest
 
 YAML_SUFFIXES = (".yaml", ".yml")
-FILE_READERS = {".xosc": "vrusim.interop.xosc_import"}
-"""Scenario files that are not YAML, by suffix: the module whose `read_scenario_file(path)` reads
-them. Named, not imported: the readers live in a higher layer (`interop`), loaded only when such a file is given."""
+SCENARIO_FILE_SUFFIXES = (*YAML_SUFFIXES, ".xosc")
+"""Scenario files by suffix: YAML, and OpenSCENARIO XML (`vrusim.formats.xosc_import`)."""
 PAPER_PREFIX = "paper:"
 EXAMPLE_PREFIX = "example:"
 BUNDLED_PREFIXES = (PAPER_PREFIX, EXAMPLE_PREFIX)
@@ -118,7 +117,7 @@ def is_scenario_file(source: str) -> bool:
     try:
         if "\0" in source:  # Path.exists() would just say False
             raise ValueError("embedded null byte")
-        if not (path.suffix.lower() in (*YAML_SUFFIXES, *FILE_READERS) or path.exists()):
+        if not (path.suffix.lower() in SCENARIO_FILE_SUFFIXES or path.exists()):
             return False
         folder = path.is_dir()
     except (OSError, ValueError) as error:  # a name too long for the OS, a null byte, ...
@@ -175,14 +174,13 @@ def unknown_source(source: str, expected: str, argument: str = "SOURCE") -> User
 
 
 def load_scenario_file(path: Path) -> Scenario:
-    """The scenario in a file: YAML, or a format of `FILE_READERS` by its suffix."""
-    from importlib import import_module
+    """The scenario in a file: OpenSCENARIO XML by the suffix `.xosc`, else YAML."""
+    if path.suffix.lower() == ".xosc":
+        from vrusim.formats.xosc_import import read_scenario_file
 
+        return read_scenario_file(path)
     from vrusim.scenario.loading import load_scenario
 
-    reader = FILE_READERS.get(path.suffix.lower())
-    if reader is not None:
-        return import_module(reader).read_scenario_file(path)
     return load_scenario(path)
 
 

@@ -41,7 +41,7 @@ def import_command(
 ) -> None:
     """Import an OpenSCENARIO file as a vrusim scenario YAML."""
     with user_errors():
-        from vrusim.interop.xosc_import import read_xosc
+        from vrusim.formats.xosc_import import read_xosc
 
         check_output_file(out, "--out")
         if out.exists() and not force:

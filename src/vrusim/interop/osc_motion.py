@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vrusim.formats.xosc_model import OVERRUN_M
 from vrusim.geometry.paths import Line, path_poses
 from vrusim.interop.osc_entities import ego_reference_pose
 from vrusim.scenario.routes import ego_route_spec
@@ -20,8 +21,6 @@ from vrusim.scenario.schema import Ego, Scenario, Trigger, Vru
 
 VERTEX_SPACING_M = 0.25
 """Spacing of trajectory vertices on curved route pieces, m."""
-OVERRUN_M = 10.0
-"""Straight continuation past the end of the ego route when the run stops there, m."""
 TRIGGER_SEARCH_STEP_M = 0.05
 """Station grid on which a distance / time-to-arrival trigger is first located (then refined by bisection), m."""
 

@@ -7,11 +7,11 @@ geographic, trajectory positions) are refused. z, pitch and roll are ignored (vr
 
 from __future__ import annotations
 
-from vrusim.interop.xml_file import Element
-from vrusim.interop.xodr_lanes import lane_position, road_position
-from vrusim.interop.xodr_model import Network
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import WorldPose
+from vrusim.formats.xml_file import Element
+from vrusim.formats.xodr_lanes import lane_position, road_position
+from vrusim.formats.xodr_model import Network
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import WorldPose
 
 POSITION_KINDS = {"WorldPosition", "LanePosition", "RoadPosition"}
 

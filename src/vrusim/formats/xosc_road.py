@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from vrusim.errors import UserInputError
-from vrusim.interop.xodr_geometry import reference_poses
-from vrusim.interop.xodr_model import Network
+from vrusim.formats.xodr_geometry import reference_poses
+from vrusim.formats.xodr_model import Network
 
 
 def road_fields(network: Network) -> dict[str, float | str]:

@@ -14,10 +14,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from vrusim.errors import UserInputError
+from vrusim.formats.xodr_geometry import reference_poses
+from vrusim.formats.xodr_lanes import lane_position
+from vrusim.formats.xodr_model import Network, Road
 from vrusim.geometry.paths import SAMPLE_SPACING_M, PolylineSpec
-from vrusim.interop.xodr_geometry import reference_poses
-from vrusim.interop.xodr_lanes import lane_position
-from vrusim.interop.xodr_model import Network, Road
 
 MAX_GAP_M = 0.05
 """Largest distance between the end of one route step and the start of the next, m."""

@@ -17,7 +17,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from vrusim.interop.xosc_model import WorldPose
+from vrusim.formats.xosc_model import WorldPose
 
 STRAIGHT_RAD = 1e-7
 """A segment whose heading changes by less than this is straight, rad."""

@@ -13,8 +13,8 @@ import math
 from pathlib import Path
 
 from vrusim.errors import UserInputError
-from vrusim.interop.xml_file import Element, parse_xml, read_xml_file, shown
-from vrusim.interop.xodr_model import (
+from vrusim.formats.xml_file import Element, parse_xml, read_xml_file, shown
+from vrusim.formats.xodr_model import (
     Arc,
     Connection,
     Cubic,

@@ -7,6 +7,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+OVERRUN_M = 10.0
+"""Straight continuation past the end of the ego route when the run stops there, m (written by
+`vrusim.interop.osc_motion`, taken off again when a route is read back)."""
+
 
 @dataclass(frozen=True)
 class WorldPose:

@@ -7,9 +7,9 @@ condition's delay is added to its time; a travelled-distance condition may not b
 
 from __future__ import annotations
 
-from vrusim.interop.xml_file import Element
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import Condition
+from vrusim.formats.xml_file import Element
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import Condition
 
 _EDGES = ("none", "rising")
 

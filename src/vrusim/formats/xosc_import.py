@@ -13,14 +13,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from vrusim.errors import UserInputError
-from vrusim.interop.xml_file import Element, read_xml_file, shown
-from vrusim.interop.xodr_model import Network
-from vrusim.interop.xodr_reader import read_xodr
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_entities import read_entities
-from vrusim.interop.xosc_road import road_fields
-from vrusim.interop.xosc_scenario import ScenarioBuilder
-from vrusim.interop.xosc_storyboard import read_storyboard
+from vrusim.formats.xml_file import Element, read_xml_file, shown
+from vrusim.formats.xodr_model import Network
+from vrusim.formats.xodr_reader import read_xodr
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_entities import read_entities
+from vrusim.formats.xosc_road import road_fields
+from vrusim.formats.xosc_scenario import ScenarioBuilder
+from vrusim.formats.xosc_storyboard import read_storyboard
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 
@@ -89,4 +89,4 @@ def read_xosc(path: str | Path) -> Scenario:
 
 
 read_scenario_file = read_xosc
-"""The reader `vrusim.sources` calls for a `.xosc` SOURCE (`sources.FILE_READERS`)."""
+"""The reader `vrusim.sources.load_scenario_file` calls for a `.xosc` SOURCE."""

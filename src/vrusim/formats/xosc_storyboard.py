@@ -10,12 +10,12 @@ from __future__ import annotations
 
 from datetime import datetime
 
-from vrusim.interop.xml_file import Element, shown
-from vrusim.interop.xodr_model import Network
-from vrusim.interop.xosc_actions import PRIVATE_ACTIONS, follow_trajectory, speed, teleport
-from vrusim.interop.xosc_conditions import read_trigger
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import Condition, Motion, SpeedChange, StoryDef, Trajectory
+from vrusim.formats.xml_file import Element, shown
+from vrusim.formats.xodr_model import Network
+from vrusim.formats.xosc_actions import PRIVATE_ACTIONS, follow_trajectory, speed, teleport
+from vrusim.formats.xosc_conditions import read_trigger
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import Condition, Motion, SpeedChange, StoryDef, Trajectory
 
 DAY_STARTS_H, NIGHT_STARTS_H = 6, 20
 """Hours (local time of day) between which a `<TimeOfDay>` is daylight; outside them it is night."""

@@ -14,8 +14,8 @@ import math
 import numpy as np
 
 from vrusim.errors import UserInputError
+from vrusim.formats.xodr_model import Arc, Geometry, ParamPoly3, Poly3, Road, Spiral, Straight
 from vrusim.geometry.paths import Clothoid, PathSpec, path_poses
-from vrusim.interop.xodr_model import Arc, Geometry, ParamPoly3, Poly3, Road, Spiral, Straight
 
 Poses = tuple[np.ndarray, np.ndarray, np.ndarray]
 """x (m), y (m), heading (rad, not wrapped) at each station."""

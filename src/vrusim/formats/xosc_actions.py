@@ -9,11 +9,11 @@ refused, naming the element and its line.
 
 from __future__ import annotations
 
-from vrusim.interop.xml_file import Element
-from vrusim.interop.xodr_model import Network
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import WorldPose
-from vrusim.interop.xosc_positions import read_position
+from vrusim.formats.xml_file import Element
+from vrusim.formats.xodr_model import Network
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import WorldPose
+from vrusim.formats.xosc_positions import read_position
 
 PRIVATE_ACTIONS = {"TeleportAction", "LongitudinalAction", "RoutingAction"}
 

@@ -7,9 +7,9 @@ Catalog references, external object references, controllers and entity selection
 
 from __future__ import annotations
 
-from vrusim.interop.xml_file import Element, shown
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import EntityDef
+from vrusim.formats.xml_file import Element, shown
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import EntityDef
 
 _OBJECT_KINDS = {"Vehicle": "vehicle", "Pedestrian": "pedestrian", "MiscObject": "misc"}
 _CATEGORY_ATTRIBUTE = {

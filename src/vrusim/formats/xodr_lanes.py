@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from vrusim.errors import UserInputError
-from vrusim.interop.xodr_geometry import Poses, checked_stations, reference_poses
-from vrusim.interop.xodr_model import Cubic, Network, Road
+from vrusim.formats.xodr_geometry import Poses, checked_stations, reference_poses
+from vrusim.formats.xodr_model import Cubic, Network, Road
 
 
 def cubic_at(records: tuple[Cubic, ...], s_m: np.ndarray, origin_m: float = 0.0) -> np.ndarray:

@@ -13,10 +13,9 @@ import math
 from typing import Any
 
 from vrusim.errors import UserInputError
-from vrusim.interop.osc_motion import OVERRUN_M
-from vrusim.interop.xosc_document import XoscDocument
-from vrusim.interop.xosc_model import Condition, EntityDef, Motion, SpeedChange, StoryDef, WorldPose
-from vrusim.interop.xosc_route_fit import fit_route
+from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_model import OVERRUN_M, Condition, EntityDef, Motion, SpeedChange, StoryDef, WorldPose
+from vrusim.formats.xosc_route_fit import fit_route
 from vrusim.scenario.vru_types import VruType
 
 EGO_NAMES = ("ego", "vut")

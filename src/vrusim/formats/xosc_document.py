@@ -11,7 +11,7 @@ import math
 import re
 
 from vrusim.errors import UserInputError
-from vrusim.interop.xml_file import Element, shown
+from vrusim.formats.xml_file import Element, shown
 from vrusim.limits import check_limit
 
 _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
