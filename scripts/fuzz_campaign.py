@@ -1,6 +1,6 @@
 """Fuzz campaign (issue 18), run outside CI: thousands of malformed scenario files, sweep specs and command lines.
 
-    python scripts/fuzz_campaign.py                      # 1,200 inputs of each of 4 kinds: 4,800 in all
+    python scripts/fuzz_campaign.py                      # 1,200 inputs of each of 5 kinds: 6,000 in all
     python scripts/fuzz_campaign.py --examples 200 --kinds cli --json
 
 The generators are the suite's (`tests/fuzz_inputs.py`; `tests/test_fuzz.py` runs a fixed few in CI). Each kind
@@ -24,7 +24,7 @@ from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-KINDS = ("scenario", "physics", "sweep", "cli")
+KINDS = ("scenario", "physics", "xosc", "sweep", "cli")
 
 
 class HangError(Exception):
@@ -49,6 +49,8 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
         scenario_texts,
         sweep_texts,
         with_folder,
+        write_input,
+        xosc_texts,
     )
 
     counts: Counter = Counter()
@@ -59,8 +61,7 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
     def one(args: list[str], text: str | None) -> None:
         with tempfile.TemporaryDirectory() as folder:
             if text is not None:
-                path = Path(folder) / ("spec.yaml" if kind == "sweep" else "scenario.yaml")
-                path.write_text(text, encoding="utf-8", errors="surrogatepass")
+                path = write_input(Path(folder), text, ".xosc" if kind == "xosc" else ".yaml")
                 args = [arg.replace("{file}", str(path)) for arg in args]
             args = with_folder(args, folder)
             started = time.perf_counter()
@@ -107,7 +108,7 @@ def child(kind: str, examples: int, timeout_s: float, seed: int) -> dict:
             one(args, None)
 
     else:
-        texts = {"scenario": scenario_texts, "physics": physics_texts, "sweep": sweep_texts}[kind]()
+        texts = {"scenario": scenario_texts, "physics": physics_texts, "xosc": xosc_texts, "sweep": sweep_texts}[kind]()
         command = ["sweep", "{file}", "--dry-run", "--json"] if kind == "sweep" else ["run", "{file}", "--json"]
 
         @hypothesis_seed(seed)

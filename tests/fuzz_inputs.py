@@ -9,7 +9,10 @@ checks behind the first one.
 from __future__ import annotations
 
 import copy
+import functools
 import math
+import re
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -216,6 +219,63 @@ def sweep_texts() -> st.SearchStrategy[str]:
     return mutated(base_sweep()).map(dump).flatmap(corrupted_text)
 
 
+XOSC_STEM = "fuzz"
+"""File stem of the exported OpenSCENARIO pair (`fuzz.xosc` names its road `fuzz.xodr`)."""
+
+
+@functools.cache
+def exported_pair() -> tuple[str, str]:
+    """(`.xosc` text, `.xodr` text) of the paper's pedestrian case as `vrusim export` writes it."""
+    from vrusim.interop.openscenario import export_openscenario
+    from vrusim.scenario.loading import scenario_from_mapping
+
+    with tempfile.TemporaryDirectory() as folder:
+        export_openscenario(scenario_from_mapping(base_scenario()), Path(folder), XOSC_STEM)
+        return tuple(
+            (Path(folder) / f"{XOSC_STEM}{suffix}").read_text(encoding="utf-8") for suffix in (".xosc", ".xodr")
+        )
+
+
+ATTRIBUTE = re.compile(r'="([^"]*)"')
+
+
+@st.composite
+def mutated_xml(draw: st.DrawFn, text: str) -> str:
+    """XML text with one to three attribute values replaced by junk, a line removed or repeated, or an entity
+    declaration or a processing instruction put in front; then possibly cut short or with a character inserted."""
+    for _ in range(draw(st.integers(1, 3))):
+        kind = draw(st.sampled_from(("attribute", "attribute", "attribute", "drop", "repeat", "prolog")))
+        lines = text.splitlines(keepends=True)
+        if kind == "attribute":
+            spans = [m.span(1) for m in ATTRIBUTE.finditer(text)]
+            start, end = draw(st.sampled_from(spans))
+            value = draw(st.sampled_from(SPECIAL_STRINGS) | st.text(max_size=12) | st.floats().map(repr))
+            text = text[:start] + value.replace('"', "&quot;").replace("<", "&lt;") + text[end:]
+        elif kind in ("drop", "repeat") and len(lines) > 2:
+            at = draw(st.integers(1, len(lines) - 2))
+            text = "".join(lines[:at] + (lines[at : at + 1] * 20 if kind == "repeat" else []) + lines[at + 1 :])
+        elif kind == "prolog":
+            text = draw(st.sampled_from((
+                '<!DOCTYPE a [<!ENTITY b "bbbbbbbb">]>\n', '<!DOCTYPE a SYSTEM "file:///etc/passwd">\n', "<?x y?>\n",
+            ))) + text.split("\n", 1)[-1]  # fmt: skip
+    return draw(corrupted_text(text))
+
+
+def write_input(folder: Path, text: str, suffix: str) -> Path:
+    """Write a drawn input file into `folder` (an `.xosc` with the exported road next to it); its path."""
+    path = folder / (f"{XOSC_STEM}.xosc" if suffix == ".xosc" else f"input{suffix}")
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    if suffix == ".xosc":
+        (folder / f"{XOSC_STEM}.xodr").write_text(exported_pair()[1], encoding="utf-8")
+    return path
+
+
+def xosc_texts() -> st.SearchStrategy[str]:
+    """Malformed (and some still valid) OpenSCENARIO files of the exported pedestrian case (its `.xodr` unchanged
+    next to it)."""
+    return st.deferred(lambda: mutated_xml(exported_pair()[0]))
+
+
 OPTION_VALUES = (
     "",
     "-1",
@@ -248,13 +308,24 @@ COMMANDS: dict[str, tuple[bool, tuple[str, ...], tuple[str, ...]]] = {
     "summarize": (True, (), ("--by", "--bins", "--metrics", "--plot", "--x", "--json")),
     "report": (True, ("--out",), ("--v2x", "--planner", "--seed", "--bins")),
     "export": (True, ("--format", "--out"), ("--v2x", "--night", "--force")),
+    "import": (True, ("--out",), ("--force", "--json")),
 }
 """Per command: whether it takes a source, its required options, the options the fuzzer adds (`sweep` always
 gets `--dry-run`; `ncap` always a `--scenario`, so that a run stays short)."""
 FLAGS = ("--json", "--dry-run", "--night", "--force")
 OUTPUTS = ("--out", "--trace", "--plot", "--predictions")
+OUTPUT_SUFFIXES = ("", ".csv", ".png", ".html", ".xlsx", ".parquet", ".yaml")
 CHOICES = {"--format": ("openscenario", "commonroad", "xml"), "--scenario": ("CPNA", "CB", "CMRs", "XYZ", "")}
-SOURCES = ("example:pedestrian-crossing", "CPNA-25/20kph/day", "missing.yaml", "", "x" * 300, "/dev/zero", ".")
+SOURCES = (
+    "example:pedestrian-crossing",
+    "CPNA-25/20kph/day",
+    "missing.yaml",
+    "missing.xosc",
+    "",
+    "x" * 300,
+    "/dev/zero",
+    ".",
+)
 """Positional arguments tried."""
 
 
@@ -285,7 +356,7 @@ def cli_arguments(draw: st.DrawFn) -> list[str]:
             continue
         value = draw(st.sampled_from(CHOICES.get(option, OPTION_VALUES)))
         if option in OUTPUTS and value not in ("", "x" * 300):
-            value = f"{FOLDER}/out{draw(st.sampled_from(('', '.csv', '.png', '.html', '.xlsx', '.parquet')))}"
+            value = f"{FOLDER}/out{draw(st.sampled_from(OUTPUT_SUFFIXES))}"
         args += [option, value]
     if command == "sweep":
         args.append("--dry-run")

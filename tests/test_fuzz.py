@@ -1,6 +1,6 @@
-"""Fuzz test (issue 18): malformed scenario files, scenarios with extreme values inside the physical bounds, sweep
-specs and command lines get a result or one clear error (exit 2 with a message), never a traceback, and results
-never hold NaN or infinity.
+"""Fuzz test (issue 18): malformed scenario files (YAML and OpenSCENARIO), scenarios with extreme values inside the
+physical bounds, sweep specs and command lines get a result or one clear error (exit 2 with a message), never a
+traceback, and results never hold NaN or infinity.
 
 A fixed number of examples per run keeps the CI time bounded (about 30 s); `scripts/fuzz_campaign.py` runs the
 same generators thousands of times outside CI and measures hangs and memory too.
@@ -21,6 +21,8 @@ from fuzz_inputs import (
     scenario_texts,
     sweep_texts,
     with_folder,
+    write_input,
+    xosc_texts,
 )
 
 
@@ -36,13 +38,12 @@ def fuzz(examples: int) -> settings:
     )
 
 
-def _answer(args: list[str], text: str | None = None) -> None:
+def _answer(args: list[str], text: str | None = None, suffix: str = ".yaml") -> None:
     """Run `vrusim ARGS` (with `text` written to the file `FILE` stands for) in a fresh folder and check the
     answer."""
     with tempfile.TemporaryDirectory() as folder:
         if text is not None:
-            path = Path(folder) / "input.yaml"
-            path.write_text(text, encoding="utf-8", errors="surrogatepass")
+            path = write_input(Path(folder), text, suffix)
             args = [str(path) if arg == "FILE" else arg for arg in args]
         verdict = invoke_cli(with_folder(args, folder))
     assert verdict.acceptable, (args[:1], verdict.exit_code, verdict.output[-2000:], verdict.traceback)
@@ -60,6 +61,12 @@ def test_malformed_scenario_files_get_a_result_or_one_clear_error(text):
 @given(text=physics_texts())
 def test_extreme_but_bounded_physics_runs_with_finite_results_or_one_clear_error(text):
     _answer(["run", "FILE", "--json"], text)
+
+
+@fuzz(40)
+@given(text=xosc_texts())
+def test_malformed_openscenario_files_get_a_result_or_one_clear_error(text):
+    _answer(["run", "FILE", "--json"], text, ".xosc")
 
 
 @fuzz(60)
