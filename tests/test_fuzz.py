@@ -2,7 +2,7 @@
 physical bounds, sweep specs and command lines get a result or one clear error (exit 2 with a message), never a
 traceback, and results never hold NaN or infinity.
 
-A fixed number of examples per run keeps the CI time bounded (about 30 s); `scripts/fuzz_campaign.py` runs the
+A fixed number of examples per run keeps the CI time bounded (about 11 s); `scripts/fuzz_campaign.py` runs the
 same generators thousands of times outside CI and measures hangs and memory too.
 """
 
