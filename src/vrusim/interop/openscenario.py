@@ -51,9 +51,15 @@ def vru_name(index: int) -> str:
     return f"vru{index}"
 
 
+def _clean(value: float) -> float:
+    """`value` at full precision (an import gives back the same number), round-off below 1e-12 written as 0."""
+    return 0.0 if abs(value) < 1e-12 else value + 0.0
+
+
 def _world(x_m: float, y_m: float, heading_rad: float) -> xosc.WorldPosition:
-    """A ground-level world position; rounded to 1e-9 m / rad so round-off (1e-15) does not clutter the file."""
-    return xosc.WorldPosition(round(x_m, 9) + 0.0, round(y_m, 9) + 0.0, 0.0, round(heading_rad, 9) + 0.0)
+    """A ground-level world position (m, rad) at full precision: rounded to 1e-9 m, a start 4e-10 m off moved a
+    night FSM run's first detection by a step on import (`scripts/xosc_round_trip.py`)."""
+    return xosc.WorldPosition(_clean(x_m), _clean(y_m), 0.0, _clean(heading_rad))
 
 
 def _polyline(name: str, vertices: list[Vertex]) -> xosc.Trajectory:
