@@ -65,8 +65,9 @@ def main() -> int:
                 )
     runs = len(originals) * len(args.planners.split(","))
     print(f"{len(paper)} paper cases and {len(catalogue)} catalogue tests exported and imported in "
-          f"{converted_s:.1f} s; {runs} runs compared; {runs - len(failures)} match, {len(failures)} differ; largest contact-time difference "
-          f"{worst['contact_s']:.4f} s, impact point {worst['point_m']:.4f} m")  # fmt: skip
+          f"{converted_s:.1f} s; {runs} runs compared; {runs - len(failures)} match, {len(failures)} differ; "
+          f"largest contact-time difference {worst['contact_s']:.4f} s, "
+          f"impact point {worst['point_m']:.4f} m")  # fmt: skip
     for failure in failures[:40]:
         print("  differs:", failure)
     return 1 if failures else 0
