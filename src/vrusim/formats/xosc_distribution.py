@@ -120,7 +120,9 @@ def _empty(doc: XoscDocument, element: Element) -> int:
 def _deterministic(doc: XoscDocument, element: Element) -> tuple[tuple[str, ...], list[tuple[str, ...]]]:
     reader = _Deterministic(doc, element)
     sizes = reader.sizes()
-    check_limit("sweep_variants", math.prod(sizes), f"{doc.source}: {' x '.join(map(str, sizes))} parameter sets")
+    check_limit(
+        "sweep_variants", math.prod(sizes), f"{doc.source}: {' x '.join(f'{n:,}' for n in sizes)} parameter sets"
+    )
     dimensions = reader.dimensions()
     names: list[str] = []
     for dimension in dimensions:
