@@ -24,6 +24,7 @@ from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
+    from vrusim.sweep.plan import PlannedSweep
     from vrusim.sweep.spec import SweepSpec
 
 INTERRUPTED_EXIT_CODE = 130
@@ -42,9 +43,9 @@ def sweep_command(
     spec_file: Annotated[
         str | None,
         typer.Argument(
-            metavar="[SPEC.yaml|NAME]",
-            help="Sweep spec file, or a bundled one (`vrusim examples`, e.g. example:pedestrian-monte-carlo); "
-            "not needed with --resume.",
+            metavar="[SPEC.yaml|NAME|DIST.xosc]",
+            help="Sweep spec file, a bundled one (`vrusim examples`, e.g. example:pedestrian-monte-carlo), or an "
+            "OpenSCENARIO parameter distribution file (<ParameterValueDistribution>); not needed with --resume.",
             show_default=False,
         ),
     ] = None,
@@ -162,10 +163,15 @@ def _check_modes(force: bool, resume: bool, dry_run: bool, seed: int | None) -> 
         raise UserInputError("--force: --dry-run writes nothing, so there is nothing to replace")
 
 
-def _spec(spec_file: str | None, seed: int | None) -> SweepSpec | None:
-    """The sweep spec SPEC names (a file or a bundled name), with --seed as its master seed when given."""
+def _spec(spec_file: str | None, seed: int | None) -> SweepSpec | PlannedSweep | None:
+    """The sweep spec SPEC names (a file or a bundled name), with --seed as its master seed when given; or the
+    sweep of an OpenSCENARIO parameter distribution file."""
     if spec_file is None:
         return None
+    if spec_file.lower().endswith(".xosc"):
+        from vrusim.sweep.xosc_sweep import distribution_sweep
+
+        return distribution_sweep(spec_file, seed)
     from vrusim.sources import sweep_spec_path
     from vrusim.sweep.spec import load_spec, with_seed
 
@@ -178,6 +184,8 @@ def _counts(plan: dict) -> str:
     samples = f"{plan['samples']:,} samples"
     if not plan["tests"]:
         return f"{plan['grid_points']:,} grid points × {samples}"
+    if plan["base"].lower().endswith(".xosc"):
+        return f"{plan['tests']:,} OpenSCENARIO parameter sets of {plan['base']}"
     values = plan["grid_points"] // plan["tests"]
     return f"{plan['tests']:,} catalogue tests × {values:,} parameter grid points × {samples}"
 

@@ -1,8 +1,9 @@
 """Strict access to an OpenSCENARIO element tree: parameter references resolved, unknown children refused.
 
 Attribute values may be a parameter reference, `$name` or `${name}`, to a `<ParameterDeclaration>` of the file
-(declarations may refer to earlier ones). Expressions (`${$a + 1}`) are not supported. Every failure is a
-UserInputError naming the file, the line and the element.
+(declarations may refer to earlier ones), or an expression, `${$a + 1}` (`xosc_expression`). Each declared value
+is converted to its `parameterType` (`xosc_parameters`); values given from outside (a parameter distribution)
+replace the declared ones. Every failure is a UserInputError naming the file, the line and the element.
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ import re
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, shown
+from vrusim.formats.xosc_expression import ExpressionError, Value, evaluate, value_text
+from vrusim.formats.xosc_parameters import convert, parameter_type
 from vrusim.limits import check_limit
 
 _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
@@ -20,9 +23,13 @@ _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-
 class XoscDocument:
     """One `.xosc` file: its name (for messages) and its declared parameters (name -> resolved value text)."""
 
-    def __init__(self, source: str) -> None:
+    def __init__(self, source: str, overrides: dict[str, str] | None = None) -> None:
         self.source = source
         self.parameters: dict[str, str] = {}
+        self.values: dict[str, Value | str] = {}
+        """Typed values (double or bool; text for string and dateTime) of the parameters, as expressions see them."""
+        self.overrides = dict(overrides or {})
+        """Parameter values given from outside (name -> text), replacing the declared values."""
 
     def fail(self, element: Element, message: str) -> UserInputError:
         """A user error at `element`: file, line, element tag, message."""
@@ -39,12 +46,25 @@ class XoscDocument:
 
     def declare(self, declarations: Element | None) -> None:
         """Read `<ParameterDeclarations>`: each value resolved against the parameters declared before it."""
-        if declarations is None:
-            return
-        for element in self.children(declarations, {"ParameterDeclaration"}):
+        for element in self.children(declarations or Element("ParameterDeclarations", {}, 0), {"ParameterDeclaration"}):
             self.children(element, set())
             name = self.raw(element, "name")
-            self.parameters[name] = self.text(element, "value")
+            kind = parameter_type(self.raw(element, "parameterType", ""))
+            if kind is None:
+                raise self.fail(
+                    element, f"attribute parameterType: {shown(element.attrib['parameterType'])} is unknown"
+                )
+            given = name in self.overrides
+            text = self.overrides.pop(name) if given else self.text(element, "value")
+            try:
+                self.parameters[name], value = convert(text, kind)
+            except ValueError as error:
+                origin = "the value given for it" if given else "attribute value"
+                raise self.fail(element, f"parameter {shown(name)}: {origin}: {error}") from None
+            self.values[name] = value
+        if self.overrides:
+            names = ", ".join(shown(n) for n in sorted(self.overrides))
+            raise UserInputError(f"{self.source}: parameter(s) {names} given a value but not declared in the file")
 
     def resolve(self, element: Element, name: str, text: str) -> str:
         """The value of an attribute: a parameter reference replaced by the parameter's value."""
@@ -52,11 +72,20 @@ class XoscDocument:
             return text
         match = _REFERENCE.match(text)
         if match is None:
-            raise self.fail(element, f"attribute {name}: expression {shown(text)} is not supported (only $name)")
+            return self.expression(element, name, text)
         parameter = match.group(1) or match.group(2)
         if parameter not in self.parameters:
             raise self.fail(element, f"attribute {name}: parameter {shown(parameter)} is not declared")
         return self.parameters[parameter]
+
+    def expression(self, element: Element, name: str, text: str) -> str:
+        """The value of the expression `${...}` in attribute `name`, as attribute text."""
+        if not (text.startswith("${") and text.endswith("}")):
+            raise self.fail(element, f"attribute {name}: {shown(text)} is neither $name nor an expression ${{...}}")
+        try:
+            return value_text(evaluate(text[2:-1], self.values))
+        except ExpressionError as error:
+            raise self.fail(element, f"attribute {name}: expression {shown(text)}: {error}") from None
 
     # ------------------------------------------------------------------------------------------- attributes
 

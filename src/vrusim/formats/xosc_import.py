@@ -16,6 +16,7 @@ from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, read_xml_file, shown
 from vrusim.formats.xodr_model import Network
 from vrusim.formats.xodr_reader import read_xodr
+from vrusim.formats.xosc_distribution import DISTRIBUTION_TAG, is_distribution
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_entities import read_entities
 from vrusim.formats.xosc_road import road_fields
@@ -63,11 +64,18 @@ def _catalogs(doc: XoscDocument, root: Element) -> None:
         raise doc.fail(catalogs.children[0], "(a catalog) is not supported; write entities and trajectories inline")
 
 
-def parse_root(root: Element, path: Path) -> Scenario:
-    """The scenario of an OpenSCENARIO document (root element), read from `path`."""
-    doc = XoscDocument(str(path))
+def parse_root(root: Element, path: Path, parameters: dict[str, str] | None = None) -> Scenario:
+    """The scenario of an OpenSCENARIO document (root element), read from `path`; `parameters` (name -> value
+    text) replace the values of the file's parameter declarations."""
+    doc = XoscDocument(str(path), parameters)
     if root.tag != "OpenSCENARIO":
         raise doc.fail(root, "is not an OpenSCENARIO document (expected <OpenSCENARIO>)")
+    if is_distribution(root):
+        raise doc.fail(
+            root.first(DISTRIBUTION_TAG) or root,
+            "makes this a parameter distribution, not a scenario: run its variants with "
+            f"`vrusim sweep {path} --out DIR`",
+        )
     doc.children(root, _TOP_LEVEL)
     name, description = _header(doc, root, path)
     doc.declare(root.first("ParameterDeclarations"))
@@ -80,12 +88,19 @@ def parse_root(root: Element, path: Path) -> Scenario:
     return scenario_from_mapping(data, str(path))
 
 
-def read_xosc(path: str | Path) -> Scenario:
-    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says)."""
+def read_xosc_root(path: str | Path) -> tuple[Element, Path]:
+    """The root element of the OpenSCENARIO file `path` (read safely) and the path."""
     path = Path(path)
     if path.suffix.lower() != XOSC_SUFFIX:
         raise UserInputError(f"{path}: expected an OpenSCENARIO file ({XOSC_SUFFIX})")
-    return parse_root(read_xml_file(path, "OpenSCENARIO"), path)
+    return read_xml_file(path, "OpenSCENARIO"), path
+
+
+def read_xosc(path: str | Path, parameters: dict[str, str] | None = None) -> Scenario:
+    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says);
+    `parameters` (name -> value text) replace the values its parameter declarations give."""
+    root, path = read_xosc_root(path)
+    return parse_root(root, path, parameters)
 
 
 read_scenario_file = read_xosc

@@ -111,7 +111,8 @@ def _correlated_draws(plan: SweepPlan, count: int) -> dict[str, np.ndarray]:
 
 
 def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
-    """Columns `variant`, `seed`, optional `test`, and one per parameter (named by its path), N rows each."""
+    """Columns `variant`, `seed`, optional `test`, the plan's base columns and one per parameter (named by its
+    path), N rows each."""
     count = plan.variants
     dimensions: list[tuple[str, np.ndarray]] = []
     if plan.tests:
@@ -126,6 +127,11 @@ def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
     for position, (name, values) in enumerate(dimensions):
         stride = math.prod(sizes[position + 1 :])
         columns[name] = values[(grid_index // stride) % sizes[position]]
+    if plan.base_columns:
+        stride = math.prod(sizes[1:])
+        base_index = (grid_index // stride) % sizes[0]
+        for name, values in plan.base_columns:
+            columns[name] = _column(list(values))[base_index]
     correlated = _correlated_draws(plan, count) if plan.correlations else {}
     for p in plan.parameters:
         if p.is_random:

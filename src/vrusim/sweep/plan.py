@@ -11,6 +11,7 @@ import json
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from vrusim.errors import UserInputError
@@ -39,6 +40,9 @@ class SweepPlan:
     batch_size: int
     correlations: tuple[Correlation, ...] = ()
     """Correlated pairs of random parameters (Gaussian copula); empty: all draws independent."""
+    base_columns: tuple[tuple[str, tuple[Any, ...]], ...] = ()
+    """Extra design columns set by the base: (column, one value per base in `bases` order), e.g. the
+    OpenSCENARIO parameter values of each variant of a parameter distribution (`param.NAME`)."""
 
     @property
     def tests(self) -> tuple[str, ...]:
@@ -78,12 +82,27 @@ class SweepPlan:
         }
         if self.correlations:
             out["correlations"] = [list(pair) for pair in self.correlations]
+        if self.base_columns:
+            out["base_columns"] = [[name, list(values)] for name, values in self.base_columns]
         return out
 
     def digest(self) -> str:
         """SHA-256 of the description: equal digests mean equal variants in equal batches."""
         text = json.dumps(self.describe(), sort_keys=True, separators=(",", ":"), allow_nan=False)
         return hashlib.sha256(text.encode()).hexdigest()
+
+
+@dataclass(frozen=True)
+class PlannedSweep:
+    """A sweep planned outside the spec format (an OpenSCENARIO parameter distribution: one base per variant),
+    with what the manifest records of it."""
+
+    plan: SweepPlan
+    source: dict[str, Any]
+    """What the manifest records as the spec."""
+    base_file: Path | None
+    columns: tuple[dict[str, Any], ...] = ()
+    """Descriptions of the plan's base columns (the manifest's `parameters`)."""
 
 
 def _dump(scenario: Scenario) -> dict[str, Any]:

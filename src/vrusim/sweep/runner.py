@@ -6,7 +6,7 @@ import platform
 import subprocess
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -17,11 +17,12 @@ import pyarrow as pa
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.planners.registry import make_planner, plugin_source
+from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
 from vrusim.sweep.execute import connect_dask, run_dask, run_processes, run_serial
-from vrusim.sweep.plan import SweepPlan, VariantBuilder, make_plan
+from vrusim.sweep.plan import PlannedSweep, SweepPlan, VariantBuilder, check_budgets, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
 from vrusim.sweep.tables import chunk_table, design_types
@@ -92,8 +93,16 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
     data = manifest["plan"]
     parameters = tuple(Parameter.from_description(p) for p in data["parameters"])
     correlations = tuple((first, second, float(rho)) for first, second, rho in data.get("correlations", []))
+    columns = tuple((name, tuple(values)) for name, values in data.get("base_columns", []))
     plan = SweepPlan(
-        data["name"], data["bases"], parameters, data["samples"], data["seed"], data["batch_size"], correlations
+        data["name"],
+        data["bases"],
+        parameters,
+        data["samples"],
+        data["seed"],
+        data["batch_size"],
+        correlations,
+        columns,
     )
     if plan.digest() != manifest.get("plan_sha256"):
         raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
@@ -112,9 +121,35 @@ def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> int:
     return len(rows)
 
 
-def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
+Source = SweepSpec | PlannedSweep
+"""What a sweep is made from: a spec, or a plan built elsewhere (an OpenSCENARIO parameter distribution)."""
+
+
+def plan_of(spec: Source, batch_size: int | None = None) -> SweepPlan:
+    """The plan of a spec (`make_plan`) or of a planned sweep (at `batch_size` when given)."""
+    if isinstance(spec, SweepSpec):
+        return make_plan(spec, batch_size)
+    if batch_size is not None and batch_size < 1:
+        raise UserInputError("--batch-size: expected a positive number of variants")
+    plan = spec.plan if batch_size is None else replace(spec.plan, batch_size=batch_size)
+    check_budgets(plan, [scenario_from_mapping(next(iter(plan.bases.values())), plan.name)])
+    return plan
+
+
+def _base(spec: Source, plan: SweepPlan) -> str:
+    if isinstance(spec, PlannedSweep):
+        return str(spec.base_file)
+    return "catalogue" if plan.tests else str(spec.base_file)
+
+
+def _described(spec: Source, plan: SweepPlan) -> list[dict[str, Any]]:
+    """The manifest's `parameters`: the plan's, then a planned sweep's base columns."""
+    return [p.describe() for p in plan.parameters] + (list(spec.columns) if isinstance(spec, PlannedSweep) else [])
+
+
+def dry_run(spec: Source, batch_size: int | None = None) -> dict[str, Any]:
     """Plan, draw and check a sweep without running it: counts and each parameter's drawn range (JSON-ready)."""
-    plan = make_plan(spec, batch_size)
+    plan = plan_of(spec, batch_size)
     design = make_design(plan)
     checked = preflight(plan, design)
     parameters = []
@@ -134,7 +169,7 @@ def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
     ]
     return {
         "name": plan.name,
-        "base": "catalogue" if plan.tests else str(spec.base_file),
+        "base": _base(spec, plan),
         "tests": len(plan.tests),
         "variants": plan.variants,
         "grid_points": plan.grid_points,
@@ -142,7 +177,7 @@ def dry_run(spec: SweepSpec, batch_size: int | None = None) -> dict[str, Any]:
         "batch_size": plan.batch_size,
         "batches": plan.chunks,
         "seed": plan.seed,
-        "parameters": parameters,
+        "parameters": parameters + (list(spec.columns) if isinstance(spec, PlannedSweep) else []),
         "correlations": correlations,
         "variants_checked": checked,
     }
@@ -166,7 +201,7 @@ def _tasks(plan: SweepPlan, design: dict[str, np.ndarray], pending: list[int]):
 
 
 def _open(
-    spec: SweepSpec | None,
+    spec: Source | None,
     store: SweepStore,
     resume: bool,
     batch_size: int | None,
@@ -176,7 +211,7 @@ def _open(
     if not resume:
         if spec is None:
             raise UserInputError("SPEC: a sweep spec file is needed (only --resume can do without)")
-        plan = make_plan(spec, batch_size)
+        plan = plan_of(spec, batch_size)
         design = make_design(plan)
         preflight(plan, design)
         manifest = {
@@ -190,7 +225,7 @@ def _open(
             "batch_size": plan.batch_size,
             "chunks": plan.chunks,
             "seed": plan.seed,
-            "parameters": [p.describe() for p in plan.parameters],
+            "parameters": _described(spec, plan),
             "plan": plan.describe(),
             "plan_sha256": plan.digest(),
             "code": {**code_version(), "planner_plugins": plugin_sources(plan)},
@@ -201,7 +236,7 @@ def _open(
     plan = plan_from_manifest(manifest)
     if batch_size is not None and batch_size != plan.batch_size:
         raise UserInputError(f"--batch-size: the sweep being resumed uses {plan.batch_size}; give that or nothing")
-    if spec is not None and make_plan(spec, plan.batch_size).digest() != plan.digest():
+    if spec is not None and plan_of(spec, plan.batch_size).digest() != plan.digest():
         raise UserInputError(
             f"SPEC: differs from the sweep recorded in {store.manifest_path} (spec, base scenario or seed changed); "
             "resume without SPEC, or start a new folder"
@@ -222,7 +257,7 @@ def _open(
 
 
 def run_sweep(
-    spec: SweepSpec | None,
+    spec: Source | None,
     out: str | Path,
     workers: int = 1,
     scheduler: str | None = None,
@@ -250,7 +285,7 @@ def run_sweep(
 
 
 def _run(
-    spec: SweepSpec | None,
+    spec: Source | None,
     store: SweepStore,
     client: Any,
     workers: int,
@@ -311,7 +346,7 @@ def _execute(
     tasks = _tasks(plan, design, pending)
     if client is not None:
         run_dask(tasks, client, on_done)
-    elif workers == 1:
+    elif workers == 1 or len(pending) <= 1:  # one batch: spawning a worker would only add its start-up
         run_serial(tasks, on_done)
     else:
         run_processes(tasks, workers, on_done)
