@@ -5,11 +5,13 @@ parameters (`xosc_document`), reads the road network its `<RoadNetwork><LogicFil
 .xosc; `xodr_reader`), the entities (`xosc_entities`) and the storyboard (`xosc_storyboard`), and builds the
 scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything outside the subset is a UserInputError
 naming the file, the line and the element (docs/openscenario_import.md). The planner, sensor, V2X and
-simulation step are not in the file: the scenario gets vrusim's defaults for them.
+simulation step are not in the file: the scenario gets vrusim's defaults for them. `import_xosc` also returns the
+warnings: elements ignored because they do not change the motion (`xosc_notes`; more of them with `lenient`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 from vrusim.errors import UserInputError
@@ -18,6 +20,7 @@ from vrusim.formats.xodr_model import Network
 from vrusim.formats.xodr_reader import read_xodr
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_entities import read_entities
+from vrusim.formats.xosc_notes import ImportNotes
 from vrusim.formats.xosc_road import road_fields
 from vrusim.formats.xosc_scenario import ScenarioBuilder
 from vrusim.formats.xosc_storyboard import read_storyboard
@@ -63,8 +66,16 @@ def _catalogs(doc: XoscDocument, root: Element) -> None:
         raise doc.fail(catalogs.children[0], "(a catalog) is not supported; write entities and trajectories inline")
 
 
-def parse_root(root: Element, path: Path) -> Scenario:
-    """The scenario of an OpenSCENARIO document (root element), read from `path`."""
+@dataclass(frozen=True)
+class XoscImport:
+    """An imported file: the scenario and the warnings (ignored elements, with their lines)."""
+
+    scenario: Scenario
+    warnings: tuple[str, ...]
+
+
+def parse_root(root: Element, path: Path, notes: ImportNotes | None = None) -> Scenario:
+    """The scenario of an OpenSCENARIO document (root element), read from `path`; ignored elements go to `notes`."""
     doc = XoscDocument(str(path))
     if root.tag != "OpenSCENARIO":
         raise doc.fail(root, "is not an OpenSCENARIO document (expected <OpenSCENARIO>)")
@@ -74,18 +85,26 @@ def parse_root(root: Element, path: Path) -> Scenario:
     _catalogs(doc, root)
     network = _road_network(doc, root, path)
     entities = read_entities(doc, doc.child(root, "Entities"))
-    story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities})
+    story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities}, notes)
     data = ScenarioBuilder(doc, entities, story).mapping()
     data = {"name": name, "description": description, "road": road_fields(network)} | data
     return scenario_from_mapping(data, str(path))
 
 
-def read_xosc(path: str | Path) -> Scenario:
-    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says)."""
+def import_xosc(path: str | Path, lenient: bool = False) -> XoscImport:
+    """The scenario of the OpenSCENARIO file `path` and the import's warnings. `lenient`: unsupported elements that
+    do not change the motion (weather, road condition, controllers) are warnings instead of errors."""
     path = Path(path)
     if path.suffix.lower() != XOSC_SUFFIX:
         raise UserInputError(f"{path}: expected an OpenSCENARIO file ({XOSC_SUFFIX})")
-    return parse_root(read_xml_file(path, "OpenSCENARIO"), path)
+    notes = ImportNotes(lenient=lenient)
+    scenario = parse_root(read_xml_file(path, "OpenSCENARIO"), path, notes)
+    return XoscImport(scenario, tuple(f"{path}: {warning}" for warning in notes.warnings))
+
+
+def read_xosc(path: str | Path, lenient: bool = False) -> Scenario:
+    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says)."""
+    return import_xosc(path, lenient).scenario
 
 
 read_scenario_file = read_xosc
