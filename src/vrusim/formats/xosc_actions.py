@@ -43,12 +43,12 @@ def speed(doc: XoscDocument, action: Element) -> tuple[float, Ramp]:
     if shape in ("cubic", "sinusoidal"):
         raise doc.fail(dynamics, f"dynamicsShape {shape} is not supported: vrusim changes speed at a constant rate")
     if shape == "step":
-        return value, Ramp("step", "rate")
+        return value, Ramp("step", "rate", 0.0, dynamics.line)
     dimension = doc.choice(dynamics, "dynamicsDimension", ("rate", "time", "distance"))
     amount = abs(doc.number(dynamics, "value"))
     if dimension == "rate" and amount == 0.0:
         raise doc.fail(dynamics, "a linear speed change needs a rate > 0")
-    return value, Ramp("linear", dimension, amount)
+    return value, Ramp("linear", dimension, amount, dynamics.line)
 
 
 def _polyline(doc: XoscDocument, trajectory: Element, network: Network) -> tuple[WorldPose, ...]:

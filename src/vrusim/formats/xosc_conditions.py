@@ -99,15 +99,15 @@ class _ConditionReader:
 
     def place(self, element: Element, ref: str, delay_s: float) -> PlaceCondition:
         """A ReachPosition, Distance, RelativeDistance or TimeToCollision condition of entity `ref`."""
-        doc, line = self.doc, element.line
+        doc, line, tag = self.doc, element.line, element.tag
         if element.tag == "ReachPositionCondition":
             x, y = self.point(doc.single(element, {"Position"}))
             tolerance = doc.number(element, "tolerance")
-            return PlaceCondition("distance", tolerance, ref=ref, delay_s=delay_s, line=line, x_m=x, y_m=y)
+            return PlaceCondition("distance", tolerance, ref=ref, delay_s=delay_s, line=line, x_m=x, y_m=y, tag=tag)
         self.euclidean(element)
         doc.choice(element, "rule", _APPROACH)
         value, freespace = doc.number(element, "value"), self.freespace(element)
-        common = {"ref": ref, "delay_s": delay_s, "line": line, "freespace": freespace}
+        common = {"ref": ref, "delay_s": delay_s, "line": line, "freespace": freespace, "tag": tag}
         if element.tag == "DistanceCondition":
             x, y = self.point(doc.single(element, {"Position"}))
             return PlaceCondition("distance", value, x_m=x, y_m=y, **common)

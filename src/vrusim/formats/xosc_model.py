@@ -110,6 +110,7 @@ class Ramp:
     shape: str
     dimension: str = "time"
     value: float = 0.0
+    line: int = 0
 
     def rate_mps2(self, from_mps: float, to_mps: float) -> float | None:
         """The constant rate from `from_mps` to `to_mps` (m/s^2); None for a step or a zero-length ramp."""
@@ -133,11 +134,12 @@ class RampedSpeedChange(SpeedChange):
 class PlaceCondition(Condition):
     """ "distance" (entity `ref` within `value` m of the point) or "ttc" (time to collision with the point <= `value`
     s). The point is (x_m, y_m), or the reference point of entity `other`; `freespace`: measured from the bounding
-    box (else from the reference point)."""
+    box (else from the reference point). `tag`: the element it was read from."""
 
     x_m: float = 0.0
     y_m: float = 0.0
     freespace: bool = False
+    tag: str = ""
 
 
 @dataclass(frozen=True)

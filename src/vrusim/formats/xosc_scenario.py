@@ -171,13 +171,14 @@ class ScenarioBuilder:
         for index, ((kind, value), change) in enumerate(starts):
             target = change.target_mps
             if value < done - 1e-9:
-                raise self.error(change.line, "the ego's speed change starts before the previous one has ended")
+                raise self.error(*_dynamics(change, "the ego's speed change starts before the previous one has ended"))
             rate = _rate(change, speed) if target != speed else limits["max_accel_mps2"]
             if rate is None:
-                raise self.error(change.line, "the ego cannot change its speed in a step: give a linear dynamics")
+                raise self.error(*_dynamics(change, "the ego cannot change its speed in a step: give a linear one"))
             limit = "max_accel_mps2" if target > speed else "max_decel_mps2"
             if rate > limits[limit] + 1e-9:
-                raise self.error(change.line, f"rate {rate:g} m/s^2 exceeds the ego's {limit} ({limits[limit]:g})")
+                message = f"rate {rate:g} m/s^2 exceeds the ego's {limit} {limits[limit]:g}"
+                raise self.error(*_dynamics(change, message))
             if kind == "at_time_s":
                 done = value + abs(target - speed) / rate
             elif target == 0.0 and index + 1 < len(starts):
@@ -313,6 +314,13 @@ class ScenarioBuilder:
         if self.story.night is not None:
             data["sensor"] = {"lighting": "night" if self.story.night else "day"}
         return data
+
+
+def _dynamics(change: SpeedChange, message: str) -> tuple[int, str]:
+    """(line, message naming the element) of an error about a speed change's dynamics."""
+    if isinstance(change, RampedSpeedChange) and change.ramp.line:
+        return change.ramp.line, f"<SpeedActionDynamics> {message}"
+    return change.line, f"<LongitudinalAction> {message}"
 
 
 def _rate(change: SpeedChange, from_mps: float) -> float | None:

@@ -29,6 +29,13 @@ SEARCH_STEP_M = 0.01
 ON_LINE_M = 1e-3
 """A time-to-collision point is on the ego's straight route when within this distance of its line, m."""
 _MAX_CHAIN = 16
+_TAGS = {
+    "time": "SimulationTimeCondition",
+    "travel": "TraveledDistanceCondition",
+    "event_start": "StoryboardElementStateCondition",
+    "collision": "CollisionCondition",
+    "any": "StartTrigger",
+}
 
 Fail = Callable[[int, str], UserInputError]
 
@@ -44,6 +51,11 @@ class TriggerMapper:
         self.fail, self.ego_name, self.events, self.standing, self.vrus = fail, ego_name, events, standing, vrus
         self.ego: Ego | None = None
 
+    def refuse(self, condition: Condition, message: str) -> UserInputError:
+        """An error at `condition`'s line, naming its element."""
+        tag = getattr(condition, "tag", "") or _TAGS.get(condition.kind, "Condition")
+        return self.fail(condition.line, f"<{tag}> {message}")
+
     # ------------------------------------------------------------------------------------------- events
 
     def resolve(self, condition: Condition, depth: int = 0) -> Condition:
@@ -54,16 +66,16 @@ class TriggerMapper:
         if condition.kind != "event_start":
             return condition
         if depth > _MAX_CHAIN:
-            raise self.fail(condition.line, "event start conditions refer to each other in a loop")
+            raise self.refuse(condition, "event start conditions refer to each other in a loop")
         event = self.events.get(condition.ref)
         if event is None:
-            raise self.fail(condition.line, f"names no speed-change event: {condition.ref!r}")
+            raise self.refuse(condition, f"names no speed-change event: {condition.ref!r}")
         base = self.resolve(event, depth + 1)
         if condition.delay_s == 0.0:
             return base
         if base.kind == "time":
             return Condition("time", base.value + condition.delay_s, line=condition.line)
-        raise self.fail(condition.line, "a delayed event start is supported only after an event started at a time")
+        raise self.refuse(condition, "a delayed event start is supported only after an event started at a time")
 
     # ------------------------------------------------------------------------------------------- VRU triggers
 
@@ -76,26 +88,27 @@ class TriggerMapper:
         if resolved.kind == "time":
             return {"at_time_s": resolved.value}
         if resolved.delay_s != 0.0:
-            raise self.fail(resolved.line, f"a delayed {resolved.kind} condition is not supported (only a time's)")
+            raise self.refuse(resolved, f"a delayed {resolved.kind} condition is not supported (only a time's)")
         if resolved.kind == "travel" and resolved.ref == self.ego_name:
             return {"ego_route_m": resolved.value}
         if isinstance(resolved, PlaceCondition) and resolved.kind == "distance":
             return {"ego_route_m": self.approach(resolved, vru)}
         if isinstance(resolved, PlaceCondition) and resolved.kind == "ttc":
             return self.time_to_arrival(resolved)
-        raise self.fail(
-            resolved.line,
+        raise self.refuse(
+            resolved,
             "a VRU starts at a time, on the ego's travelled distance, distance to a point or time to collision",
         )
 
     def earliest(self, triggers: list[dict[str, object]], line: int) -> dict[str, object]:
+        """OR-ed triggers: the earliest time or route station (all of one kind), else refused."""
         kinds = {next(iter(t)) for t in triggers}
         if kinds == {"at_time_s"} or kinds == {"ego_route_m"}:
             key = kinds.pop()
             return {key: min(float(t[key]) for t in triggers)}  # type: ignore[arg-type]
         if all(t == triggers[0] for t in triggers):
             return triggers[0]
-        raise self.fail(line, "OR-ed condition groups must all be times or all the ego's route distances")
+        raise self.fail(line, "<StartTrigger> OR-ed groups must all be times or all the ego's route distances")
 
     # ------------------------------------------------------------------------------------------- driver phases
 
@@ -108,12 +121,14 @@ class TriggerMapper:
             return key, float(found[key])  # type: ignore[arg-type]
         if resolved.kind == "time":
             return "at_time_s", resolved.value
-        if resolved.delay_s == 0.0 and resolved.kind == "travel" and resolved.ref == self.ego_name:
+        if resolved.delay_s != 0.0:
+            raise self.refuse(resolved, f"a delayed {resolved.kind} condition is not supported (only a time's)")
+        if resolved.kind == "travel" and resolved.ref == self.ego_name:
             return "ego_route_m", resolved.value
-        if resolved.delay_s == 0.0 and isinstance(resolved, PlaceCondition) and resolved.kind == "distance":
+        if isinstance(resolved, PlaceCondition) and resolved.kind == "distance":
             return "ego_route_m", self.approach(resolved, "")
-        raise self.fail(
-            resolved.line, "an ego speed change starts at a time, on its travelled distance or near a position"
+        raise self.refuse(
+            resolved, "an ego speed change starts at a time, on its travelled distance or near a position"
         )
 
     # ------------------------------------------------------------------------------------------- geometry
@@ -123,25 +138,25 @@ class TriggerMapper:
         other = condition.other
         if condition.ref != self.ego_name:
             if other != self.ego_name:
-                raise self.fail(condition.line, "only the ego's distance to a point or entity can start a VRU")
+                raise self.refuse(condition, "only the ego's distance to a point or entity can start a VRU")
             other = condition.ref
         if not other:
             return condition.x_m, condition.y_m
         if condition.freespace:
-            raise self.fail(condition.line, "a freespace distance between two entities is not supported")
+            raise self.refuse(condition, "a freespace distance between two entities is not supported")
         pose = self.standing.get(other)
         if pose is None or (other in self.vrus and other != vru):
-            raise self.fail(condition.line, f"entity {other!r} moves before the trigger: its distance is not fixed")
+            raise self.refuse(condition, f"entity {other!r} moves before the trigger: its distance is not fixed")
         return pose.x_m, pose.y_m
 
-    def known_ego(self, line: int) -> Ego:
+    def known_ego(self, condition: Condition) -> Ego:
         if self.ego is None or self.ego.reverse:
-            raise self.fail(line, "a distance or time-to-collision condition needs the ego driving forward")
+            raise self.refuse(condition, "a distance or time-to-collision condition needs the ego driving forward")
         return self.ego
 
     def approach(self, condition: PlaceCondition, vru: str) -> float:
         """The first station of the ego's route (rear axle, m) where it is within `condition.value` of the point."""
-        ego = self.known_ego(condition.line)
+        ego = self.known_ego(condition)
         px, py = self.point(condition, vru)
         spec = ego_route_spec(ego)
         front, back, half = ego.length_m - ego.rear_overhang_m, -ego.rear_overhang_m, ego.width_m / 2
@@ -159,7 +174,7 @@ class TriggerMapper:
         stations = np.linspace(0.0, ego.route.length_m, max(2, math.ceil(ego.route.length_m / SEARCH_STEP_M) + 1))
         inside = np.nonzero(distance(stations) <= condition.value)[0]
         if inside.size == 0:
-            raise self.fail(condition.line, f"the ego never comes within {condition.value:g} m along its route")
+            raise self.refuse(condition, f"the ego never comes within {condition.value:g} m along its route")
         if inside[0] == 0:
             return 0.0
         low, high = float(stations[inside[0] - 1]), float(stations[inside[0]])
@@ -173,14 +188,14 @@ class TriggerMapper:
 
     def time_to_arrival(self, condition: PlaceCondition) -> dict[str, object]:
         """`ego_time_to_arrival_s` to a point on the ego's straight route ahead, measured from its front."""
-        ego = self.known_ego(condition.line)
+        ego = self.known_ego(condition)
         if not condition.freespace or condition.other:
-            raise self.fail(condition.line, "a time to collision is supported to a <Position> with freespace true")
+            raise self.refuse(condition, "a time to collision is supported to a <Position> with freespace true")
         spec = ego_route_spec(ego)
         dx, dy = condition.x_m - spec.x0_m, condition.y_m - spec.y0_m
         along = math.cos(spec.heading0_rad) * dx + math.sin(spec.heading0_rad) * dy
         across = -math.sin(spec.heading0_rad) * dx + math.cos(spec.heading0_rad) * dy
         front = ego.length_m - ego.rear_overhang_m
         if ego.route.kind != "straight" or abs(across) > ON_LINE_M or along < front:
-            raise self.fail(condition.line, "a time to collision needs a point ahead of the ego on its straight route")
+            raise self.refuse(condition, "a time to collision needs a point ahead of the ego on its straight route")
         return {"ego_time_to_arrival_s": condition.value, "point": {"x_m": condition.x_m, "y_m": condition.y_m}}
