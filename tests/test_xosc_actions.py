@@ -335,3 +335,21 @@ REFUSALS = {
 )
 def test_an_unrepresentable_construct_is_refused_with_its_line(tmp_path, name, old, new, marker, words):
     _refused(_edited(tmp_path, name, old, new), marker, *words)
+
+
+def test_an_ego_step_at_time_zero_is_its_initial_speed(tmp_path):
+    step_event = (
+        '<Event name="go" priority="parallel"><Action name="go_action"><PrivateAction><LongitudinalAction>'
+        '<SpeedAction><SpeedActionDynamics dynamicsShape="step" dynamicsDimension="time" value="0"/>'
+        '<SpeedActionTarget><AbsoluteTargetSpeed value="10.0"/></SpeedActionTarget></SpeedAction>'
+        "</LongitudinalAction></PrivateAction></Action><StartTrigger><ConditionGroup>"
+        '<Condition name="c" delay="0" conditionEdge="none"><ByValueCondition>'
+        '<SimulationTimeCondition value="0" rule="greaterOrEqual"/></ByValueCondition></Condition>'
+        "</ConditionGroup></StartTrigger></Event>\n"
+    )
+    path = _edited(tmp_path, "ego_linear_time.xosc", '<Event name="slow"', step_event + '<Event name="slow"')
+    text = path.read_text().replace('<AbsoluteTargetSpeed value="10.0"/>', '<AbsoluteTargetSpeed value="0.0"/>', 1)
+    path.write_text(text)
+    ego = read_xosc(path).ego
+    assert ego.cruise_speed_mps == 10.0 and ego.driver is not None
+    assert [p.target_speed_mps for p in ego.driver.phases] == [10.0, 6.0, 8.0]

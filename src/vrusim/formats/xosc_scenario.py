@@ -161,10 +161,15 @@ class ScenarioBuilder:
         return fields
 
     def driver(self, changes: list[SpeedChange], initial: float, fields: dict[str, Any]) -> dict[str, Any]:
-        """The ego's speed changes as driver phases (the first holds the initial speed from t = 0)."""
+        """The ego's speed changes as driver phases (the first holds the initial speed from t = 0; a step at t = 0
+        is the initial speed). Sets `cruise_speed_mps` to the initial speed."""
         limits = {key: fields[key] or Ego.model_fields[key].default for key in ("max_accel_mps2", "max_decel_mps2")}
-        phases = [{"at_time_s": 0.0, "target_speed_mps": initial, "accel_mps2": limits["max_accel_mps2"]}]
         starts = sorted(((self.triggers.phase_start(c.condition), c) for c in changes), key=lambda s: s[0][1])
+        while starts and starts[0][0] == ("at_time_s", 0.0) and _rate(starts[0][1], initial) is None:
+            initial = starts.pop(0)[1].target_mps
+        fields["cruise_speed_mps"] = initial
+        first = {"at_time_s": 0.0, "target_speed_mps": initial, "accel_mps2": limits["max_accel_mps2"]}
+        phases = [first | {"accelerator": initial > 0}]
         if len({kind for (kind, _), _ in starts}) > 1:
             raise self.error(changes[0].line, "the ego's speed changes must all start at times or all on distances")
         speed, done = initial, 0.0
