@@ -12,6 +12,8 @@ import itertools
 import math
 from typing import Any
 
+from pydantic import ValidationError
+
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import (
@@ -27,6 +29,7 @@ from vrusim.formats.xosc_model import (
 )
 from vrusim.formats.xosc_route_fit import fit_route
 from vrusim.formats.xosc_triggers import TriggerMapper
+from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Ego
 from vrusim.scenario.vru_types import VruType
 
@@ -300,7 +303,10 @@ class ScenarioBuilder:
     def mapping(self) -> dict[str, Any]:
         """The scenario mapping without name, description and road."""
         ego = self.ego_fields()
-        self.triggers.ego = Ego.model_validate(ego)
+        try:
+            self.triggers.ego = Ego.model_validate(ego)
+        except ValidationError as error:
+            raise UserInputError(describe_validation_error(error, f"{self.doc.source}: ego")) from None
         vrus, obstacles = [], []
         for entity in self.entities:
             if entity is self.ego:

@@ -26,6 +26,8 @@ from vrusim.scenario.schema import Ego
 
 SEARCH_STEP_M = 0.01
 """Spacing of the route stations searched for where a distance condition first holds, m (then bisected)."""
+MAX_SEARCH_POINTS = 200_001
+"""At most this many stations are searched (a route longer than 2 km is searched more coarsely)."""
 ON_LINE_M = 1e-3
 """A time-to-collision point is on the ego's straight route when within this distance of its line, m."""
 _MAX_CHAIN = 16
@@ -171,7 +173,8 @@ class TriggerMapper:
             out_x = np.maximum(np.maximum(along - front, back - along), 0.0)
             return np.hypot(out_x, np.maximum(across - half, 0.0))
 
-        stations = np.linspace(0.0, ego.route.length_m, max(2, math.ceil(ego.route.length_m / SEARCH_STEP_M) + 1))
+        count = min(MAX_SEARCH_POINTS, max(2, math.ceil(ego.route.length_m / SEARCH_STEP_M) + 1))
+        stations = np.linspace(0.0, ego.route.length_m, count)
         inside = np.nonzero(distance(stations) <= condition.value)[0]
         if inside.size == 0:
             raise self.refuse(condition, f"the ego never comes within {condition.value:g} m along its route")
