@@ -279,6 +279,22 @@ REFUSALS = {
         "<RelativeDistanceCondition>",
         "freespace",
     ),
+    "time to collision with an entity": (
+        "cond_time_to_collision.xosc",
+        '<Position><WorldPosition x="10.0" y="-1.75"/></Position></TimeToCollisionConditionTarget>',
+        '<EntityRef entityRef="vru0"/></TimeToCollisionConditionTarget>',
+        "<TimeToCollisionCondition",
+        "<TimeToCollisionCondition>",
+        "<Position>",
+    ),
+    "distance to a moving entity": (
+        "cond_relative_distance.xosc",
+        '<AbsoluteTargetSpeed value="0.0"/>',
+        '<AbsoluteTargetSpeed value="0.5"/>',
+        "<RelativeDistanceCondition",
+        "<RelativeDistanceCondition>",
+        "moves before the trigger",
+    ),
     "delayed travel": (
         "ego_linear_distance.xosc",
         'delay="0.0" conditionEdge="rising"',
