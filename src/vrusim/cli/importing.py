@@ -14,7 +14,7 @@ import typer
 import yaml
 from rich.markup import escape
 
-from vrusim.cli.options import JsonOption, file_option
+from vrusim.cli.options import JsonOption, LenientOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
@@ -30,6 +30,16 @@ def scenario_yaml_text(scenario: Scenario, source: str) -> str:
     return head + body
 
 
+def imported_scenario(source: Path, lenient: bool) -> Scenario:
+    """The scenario of a `.xosc` file; its warnings (ignored elements) printed on stderr."""
+    from vrusim.formats.xosc_import import import_xosc
+
+    result = import_xosc(source, lenient)
+    for warning in result.warnings:
+        typer.echo(f"warning: {warning}", err=True)
+    return result.scenario
+
+
 def import_command(
     source: Annotated[
         Path,
@@ -37,16 +47,15 @@ def import_command(
     ],
     out: Annotated[Path, file_option("--out", "SCENARIO.yaml", "The scenario YAML file to write.")],
     force: Annotated[bool, typer.Option("--force", help="Replace --out if it exists.")] = False,
+    lenient: LenientOption = False,
     as_json: JsonOption = False,
 ) -> None:
     """Import an OpenSCENARIO file as a vrusim scenario YAML."""
     with user_errors():
-        from vrusim.formats.xosc_import import read_xosc
-
         check_output_file(out, "--out")
         if out.exists() and not force:
             raise UserInputError(f"--out: {out} exists (--force replaces it)")
-        scenario = read_xosc(source)
+        scenario = imported_scenario(source, lenient)
         text = scenario_yaml_text(scenario, source.name)
         write_atomically(out, lambda path: path.write_text(text, encoding="utf-8"), "scenario YAML file")
     if as_json:

@@ -146,3 +146,12 @@ def make_out_dir(folder: Path, option: str = "--out") -> list[Path]:
     from vrusim.io.paths import make_folder
 
     return make_folder(folder, option)
+
+
+LenientOption = Annotated[
+    bool,
+    typer.Option(
+        "--lenient",
+        help="OpenSCENARIO: unsupported elements that do not change the motion (weather, controllers) are warnings.",
+    ),
+]

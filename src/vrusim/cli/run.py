@@ -13,6 +13,7 @@ from vrusim.cli.cells import on_off
 from vrusim.cli.figures import check_run_outputs, write_run_outputs
 from vrusim.cli.options import (
     JsonOption,
+    LenientOption,
     OneSource,
     V2XSwitch,
     file_option,
@@ -23,6 +24,7 @@ from vrusim.cli.options import (
     v2x_switch_option,
 )
 from vrusim.cli.output import console, named_errors, print_json, user_errors
+from vrusim.errors import UserInputError
 from vrusim.metrics.display import display_rows
 
 
@@ -47,6 +49,7 @@ def run_command(
     seed: Annotated[
         int | None, seed_option("Key of the run's random numbers (sensor noise, V2X loss). Default: the file's.")
     ] = None,
+    lenient: LenientOption = False,
     as_json: JsonOption = False,
     trace: Annotated[
         Path | None,
@@ -84,7 +87,14 @@ def run_command(
             with named_errors("--trace"):
                 check_trace_path(trace)
         check_run_outputs(plot, animate)
-        scenario = apply_planner_and_seed(scenario_of(source, switch_value(v2x), option="--v2x"), chosen, seed)
+        given: object = source
+        if str(source).lower().endswith(".xosc"):
+            from vrusim.cli.importing import imported_scenario
+
+            given = imported_scenario(Path(source), lenient)
+        elif lenient:
+            raise UserInputError("--lenient: only for an OpenSCENARIO SOURCE (.xosc)")
+        scenario = apply_planner_and_seed(scenario_of(given, switch_value(v2x), option="--v2x"), chosen, seed)
         pictures = plot is not None or animate is not None
         result = simulate([scenario], trace=trace is not None or pictures)
         row = summary_rows(result)[0]

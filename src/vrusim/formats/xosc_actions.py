@@ -1,10 +1,10 @@
 """Read the private actions vrusim imports: TeleportAction, SpeedAction (absolute target) and
 FollowTrajectoryAction with a polyline.
 
-A speed action is a step (at once) or linear at a rate (m/s^2); other dynamics and relative targets are
-refused. A trajectory is a `<Polyline>` of positions, inline (no catalog reference), not closed, with no
-timing (`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, controllers, ...) is
-refused, naming the element and its line.
+A speed action is a step (at once) or linear at a rate (m/s^2), over a time (s) or over a distance (m); cubic
+and sinusoidal dynamics and relative targets are refused. A trajectory is a `<Polyline>` of positions, inline (no
+catalog reference), not closed, with no timing (`<TimeReference><None/>`). Every other action (AssignRouteAction,
+lane changes, ...) is refused, naming the element and its line.
 """
 
 from __future__ import annotations
@@ -12,10 +12,13 @@ from __future__ import annotations
 from vrusim.formats.xml_file import Element
 from vrusim.formats.xodr_model import Network
 from vrusim.formats.xosc_document import XoscDocument
-from vrusim.formats.xosc_model import WorldPose
+from vrusim.formats.xosc_model import Ramp, WorldPose
 from vrusim.formats.xosc_positions import read_position
 
-PRIVATE_ACTIONS = {"TeleportAction", "LongitudinalAction", "RoutingAction"}
+PRIVATE_ACTIONS = {"TeleportAction", "LongitudinalAction", "RoutingAction", "AppearanceAction", "LightStateAction"}
+"""Private actions read (`AppearanceAction` and the OpenSCENARIO 1.0 placement of `LightStateAction`: ignored)."""
+NEUTRAL_ACTIONS = {"ControllerAction", "ActivateControllerAction"}
+"""Private actions without an effect on the motion when only assigned or activated: ignored with --lenient."""
 
 
 def teleport(doc: XoscDocument, action: Element, network: Network) -> WorldPose:
@@ -23,8 +26,12 @@ def teleport(doc: XoscDocument, action: Element, network: Network) -> WorldPose:
     return read_position(doc, doc.single(action, {"Position"}), network)
 
 
-def speed(doc: XoscDocument, action: Element) -> tuple[float, float | None]:
-    """(target speed m/s, rate m/s^2 or None for a step) of a `<LongitudinalAction>` holding a SpeedAction."""
+def speed(doc: XoscDocument, action: Element) -> tuple[float, Ramp]:
+    """(target speed m/s, dynamics) of a `<LongitudinalAction>` holding a SpeedAction with an absolute target.
+
+    Shapes step and linear (dimension rate m/s^2, time s or distance m) are read; cubic and sinusoidal are
+    refused: vrusim changes speed at a constant rate.
+    """
     speed_action = doc.single(action, {"SpeedAction"})
     doc.children(speed_action, {"SpeedActionDynamics", "SpeedActionTarget"})
     dynamics = doc.child(speed_action, "SpeedActionDynamics")
@@ -32,14 +39,16 @@ def speed(doc: XoscDocument, action: Element) -> tuple[float, float | None]:
     target = doc.single(doc.child(speed_action, "SpeedActionTarget"), {"AbsoluteTargetSpeed"})
     doc.children(target, set())
     value = doc.number(target, "value")
-    shape = doc.choice(dynamics, "dynamicsShape", ("step", "linear"))
+    shape = doc.choice(dynamics, "dynamicsShape", ("step", "linear", "cubic", "sinusoidal"))
+    if shape in ("cubic", "sinusoidal"):
+        raise doc.fail(dynamics, f"dynamicsShape {shape} is not supported: vrusim changes speed at a constant rate")
     if shape == "step":
-        return value, None
-    doc.choice(dynamics, "dynamicsDimension", ("rate",))
-    rate = abs(doc.number(dynamics, "value"))
-    if rate == 0.0:
+        return value, Ramp("step", "rate", 0.0, dynamics.line)
+    dimension = doc.choice(dynamics, "dynamicsDimension", ("rate", "time", "distance"))
+    amount = abs(doc.number(dynamics, "value"))
+    if dimension == "rate" and amount == 0.0:
         raise doc.fail(dynamics, "a linear speed change needs a rate > 0")
-    return value, rate
+    return value, Ramp("linear", dimension, amount, dynamics.line)
 
 
 def _polyline(doc: XoscDocument, trajectory: Element, network: Network) -> tuple[WorldPose, ...]:

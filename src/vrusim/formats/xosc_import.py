@@ -5,11 +5,13 @@ parameters (`xosc_document`), reads the road network its `<RoadNetwork><LogicFil
 .xosc; `xodr_reader`), the entities (`xosc_entities`) and the storyboard (`xosc_storyboard`), and builds the
 scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything outside the subset is a UserInputError
 naming the file, the line and the element (docs/openscenario_import.md). The planner, sensor, V2X and
-simulation step are not in the file: the scenario gets vrusim's defaults for them.
+simulation step are not in the file: the scenario gets vrusim's defaults for them. `import_xosc` also returns the
+warnings: elements ignored because they do not change the motion (`xosc_notes`; more of them with `lenient`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 from vrusim.errors import UserInputError
@@ -19,6 +21,7 @@ from vrusim.formats.xodr_reader import read_xodr
 from vrusim.formats.xosc_distribution import DISTRIBUTION_TAG, is_distribution
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_entities import read_entities
+from vrusim.formats.xosc_notes import ImportNotes
 from vrusim.formats.xosc_road import road_fields
 from vrusim.formats.xosc_scenario import ScenarioBuilder
 from vrusim.formats.xosc_storyboard import read_storyboard
@@ -64,9 +67,19 @@ def _catalogs(doc: XoscDocument, root: Element) -> None:
         raise doc.fail(catalogs.children[0], "(a catalog) is not supported; write entities and trajectories inline")
 
 
-def parse_root(root: Element, path: Path, parameters: dict[str, str] | None = None) -> Scenario:
+@dataclass(frozen=True)
+class XoscImport:
+    """An imported file: the scenario and the warnings (ignored elements, with their lines)."""
+
+    scenario: Scenario
+    warnings: tuple[str, ...]
+
+
+def parse_root(
+    root: Element, path: Path, parameters: dict[str, str] | None = None, notes: ImportNotes | None = None
+) -> Scenario:
     """The scenario of an OpenSCENARIO document (root element), read from `path`; `parameters` (name -> value
-    text) replace the values of the file's parameter declarations."""
+    text) replace the values of the file's parameter declarations; ignored elements go to `notes`."""
     doc = XoscDocument(str(path), parameters)
     if root.tag != "OpenSCENARIO":
         raise doc.fail(root, "is not an OpenSCENARIO document (expected <OpenSCENARIO>)")
@@ -82,7 +95,7 @@ def parse_root(root: Element, path: Path, parameters: dict[str, str] | None = No
     _catalogs(doc, root)
     network = _road_network(doc, root, path)
     entities = read_entities(doc, doc.child(root, "Entities"))
-    story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities})
+    story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities}, notes)
     data = ScenarioBuilder(doc, entities, story).mapping()
     data = {"name": name, "description": description, "road": road_fields(network)} | data
     return scenario_from_mapping(data, str(path))
@@ -96,11 +109,20 @@ def read_xosc_root(path: str | Path) -> tuple[Element, Path]:
     return read_xml_file(path, "OpenSCENARIO"), path
 
 
-def read_xosc(path: str | Path, parameters: dict[str, str] | None = None) -> Scenario:
-    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says);
-    `parameters` (name -> value text) replace the values its parameter declarations give."""
+def import_xosc(path: str | Path, lenient: bool = False, parameters: dict[str, str] | None = None) -> XoscImport:
+    """The scenario of the OpenSCENARIO file `path` and the import's warnings. `lenient`: unsupported elements that
+    do not change the motion (weather, road condition, controllers) are warnings instead of errors; `parameters`
+    (name -> value text) replace the values its parameter declarations give."""
     root, path = read_xosc_root(path)
-    return parse_root(root, path, parameters)
+    notes = ImportNotes(lenient=lenient)
+    scenario = parse_root(root, path, parameters, notes)
+    return XoscImport(scenario, tuple(f"{path}: {warning}" for warning in notes.warnings))
+
+
+def read_xosc(path: str | Path, parameters: dict[str, str] | None = None, lenient: bool = False) -> Scenario:
+    """The vrusim scenario of the OpenSCENARIO file `path` (its road file next to it, as its LogicFile says);
+    `parameters` replace declared values, `lenient` as `import_xosc`."""
+    return import_xosc(path, lenient, parameters).scenario
 
 
 read_scenario_file = read_xosc

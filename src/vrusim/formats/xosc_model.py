@@ -94,3 +94,56 @@ class StoryDef:
     motions: dict[str, Motion]
     stop: list[Condition] = field(default_factory=list)
     night: bool | None = None
+
+
+# ----------------------------------------------------------------------------------- actions and conditions (#19)
+
+STEP_RATE_MPS2 = 1000.0
+"""The rate a VRU's step speed change is given: the new speed within one simulation step (dt <= 0.1 s)."""
+
+
+@dataclass(frozen=True)
+class Ramp:
+    """How a `<SpeedActionDynamics>` reaches its target: shape "step", or "linear" over `value` of `dimension`
+    ("rate": m/s^2, "time": s, "distance": m; a linear ramp over a distance is at constant acceleration)."""
+
+    shape: str
+    dimension: str = "time"
+    value: float = 0.0
+    line: int = 0
+
+    def rate_mps2(self, from_mps: float, to_mps: float) -> float | None:
+        """The constant rate from `from_mps` to `to_mps` (m/s^2); None for a step or a zero-length ramp."""
+        if self.shape == "step" or (self.dimension != "rate" and self.value == 0.0):
+            return None
+        if self.dimension == "rate":
+            return self.value
+        if self.dimension == "time":
+            return abs(to_mps - from_mps) / self.value
+        return abs(to_mps * to_mps - from_mps * from_mps) / (2.0 * self.value)
+
+
+@dataclass(frozen=True)
+class RampedSpeedChange(SpeedChange):
+    """A SpeedChange with its dynamics; `rate_mps2` holds the rate only when the dimension is "rate"."""
+
+    ramp: Ramp = Ramp("step")
+
+
+@dataclass(frozen=True)
+class PlaceCondition(Condition):
+    """ "distance" (entity `ref` within `value` m of the point) or "ttc" (time to collision with the point <= `value`
+    s). The point is (x_m, y_m), or the reference point of entity `other`; `freespace`: measured from the bounding
+    box (else from the reference point). `tag`: the element it was read from."""
+
+    x_m: float = 0.0
+    y_m: float = 0.0
+    freespace: bool = False
+    tag: str = ""
+
+
+@dataclass(frozen=True)
+class AnyCondition(Condition):
+    """ "any": OR-ed `<ConditionGroup>`s of one condition each; holds as soon as one of `options` holds."""
+
+    options: tuple[Condition, ...] = ()

@@ -12,10 +12,25 @@ import itertools
 import math
 from typing import Any
 
+from pydantic import ValidationError
+
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_document import XoscDocument
-from vrusim.formats.xosc_model import OVERRUN_M, Condition, EntityDef, Motion, SpeedChange, StoryDef, WorldPose
+from vrusim.formats.xosc_model import (
+    OVERRUN_M,
+    STEP_RATE_MPS2,
+    Condition,
+    EntityDef,
+    Motion,
+    RampedSpeedChange,
+    SpeedChange,
+    StoryDef,
+    WorldPose,
+)
 from vrusim.formats.xosc_route_fit import fit_route
+from vrusim.formats.xosc_triggers import TriggerMapper
+from vrusim.scenario.loading import describe_validation_error
+from vrusim.scenario.schema import Ego
 from vrusim.scenario.vru_types import VruType
 
 EGO_NAMES = ("ego", "vut")
@@ -61,6 +76,15 @@ class ScenarioBuilder:
         if ego is None:
             raise self.error(0, "has no ego: name an entity 'ego' or 'VUT', or give a car")
         self.ego = ego
+        events = {c.event: c.condition for m in story.motions.values() for c in m.speed_changes}
+        standing, vrus = {}, set()
+        for entity in entities:
+            motion = story.motions[entity.name]
+            if entity is not ego and vru_type(entity) is not None:
+                vrus.add(entity.name)
+            if entity is not ego and not motion.initial_speed_mps and motion.pose is not None:
+                standing[entity.name] = motion.pose
+        self.triggers = TriggerMapper(self.error, ego.name, events, standing, vrus)
 
     def error(self, line: int, message: str) -> UserInputError:
         where = f"line {line}: " if line else ""
@@ -123,15 +147,59 @@ class ScenarioBuilder:
             "route": self.ego_route(motion, pose, reverse),
             "cruise_speed_mps": abs(initial),
         }
-        if len(motion.speed_changes) > 1:
-            raise self.error(motion.speed_changes[1].line, "the ego may change its speed once (to its cruise speed)")
-        for change in motion.speed_changes:
-            self.at_start(change.condition, "the ego's speed change")
-            cruise = abs(change.target_mps)
-            fields |= {"cruise_speed_mps": cruise, "initial_speed_mps": abs(initial)}
-            if change.rate_mps2 is not None:
-                fields["max_accel_mps2" if cruise > abs(initial) else "max_decel_mps2"] = change.rate_mps2
+        changes = motion.speed_changes
+        if reverse or (len(changes) == 1 and self.starts_at_zero(changes[0].condition)):
+            if len(changes) > 1:
+                raise self.error(changes[1].line, "a reversing ego may change its speed once (to its cruise speed)")
+            for change in changes:
+                self.at_start(change.condition, "the ego's speed change")
+                cruise = abs(change.target_mps)
+                fields |= {"cruise_speed_mps": cruise, "initial_speed_mps": abs(initial)}
+                rate = _rate(change, abs(initial))
+                if rate is not None:
+                    fields["max_accel_mps2" if cruise > abs(initial) else "max_decel_mps2"] = rate
+            return fields
+        if changes:
+            fields["driver"] = self.driver(changes, initial, fields)
         return fields
+
+    def driver(self, changes: list[SpeedChange], initial: float, fields: dict[str, Any]) -> dict[str, Any]:
+        """The ego's speed changes as driver phases (the first holds the initial speed from t = 0; a step at t = 0
+        is the initial speed). Sets `cruise_speed_mps` to the initial speed."""
+        limits = {key: fields[key] or Ego.model_fields[key].default for key in ("max_accel_mps2", "max_decel_mps2")}
+        starts = sorted(((self.triggers.phase_start(c.condition), c) for c in changes), key=lambda s: s[0][1])
+        while starts and starts[0][0] == ("at_time_s", 0.0) and _rate(starts[0][1], initial) is None:
+            initial = starts.pop(0)[1].target_mps
+        fields["cruise_speed_mps"] = initial
+        first = {"at_time_s": 0.0, "target_speed_mps": initial, "accel_mps2": limits["max_accel_mps2"]}
+        phases = [first | {"accelerator": initial > 0}]
+        if len({kind for (kind, _), _ in starts}) > 1:
+            raise self.error(changes[0].line, "the ego's speed changes must all start at times or all on distances")
+        speed, done = initial, 0.0
+        for index, ((kind, value), change) in enumerate(starts):
+            target = change.target_mps
+            if value < done - 1e-9:
+                raise self.error(*_dynamics(change, "the ego's speed change starts before the previous one has ended"))
+            rate = _rate(change, speed) if target != speed else limits["max_accel_mps2"]
+            if rate is None:
+                raise self.error(*_dynamics(change, "the ego cannot change its speed in a step: give a linear one"))
+            limit = "max_accel_mps2" if target > speed else "max_decel_mps2"
+            if rate > limits[limit] + 1e-9:
+                message = f"rate {rate:g} m/s^2 exceeds the ego's {limit} {limits[limit]:g}"
+                raise self.error(*_dynamics(change, message))
+            if kind == "at_time_s":
+                done = value + abs(target - speed) / rate
+            elif target == 0.0 and index + 1 < len(starts):
+                raise self.error(starts[index + 1][1].line, "the ego stops before this speed change's distance")
+            else:
+                done = value + abs(target * target - speed * speed) / (2.0 * rate)
+            phases.append({kind: value, "target_speed_mps": target, "accel_mps2": rate, "accelerator": target > 0})
+            speed = target
+        return {"phases": phases}
+
+    def starts_at_zero(self, condition: Condition) -> bool:
+        resolved = self.triggers.resolve(condition)
+        return (resolved.kind, resolved.value) == ("time", 0.0)
 
     def at_start(self, condition: Condition, what: str) -> None:
         if (condition.kind, condition.value) != ("time", 0.0):
@@ -139,17 +207,19 @@ class ScenarioBuilder:
 
     # ------------------------------------------------------------------------------------------- VRUs
 
-    def trigger(self, condition: Condition) -> dict[str, float]:
-        if condition.kind == "time":
-            return {"at_time_s": condition.value}
-        if condition.kind == "travel" and condition.ref == self.ego.name:
-            return {"ego_route_m": condition.value}
-        raise self.error(condition.line, "a VRU starts at a simulation time or when the ego has travelled a distance")
-
     def vru_speeds(self, entity: EntityDef, motion: Motion, initial: float) -> dict[str, Any]:
+        """Top speed, acceleration, trigger and brake of a VRU: a start event and at most one stop after it."""
         changes = list(motion.speed_changes)
-        starts = [c for c in changes if c.condition.kind != "event_start"]
-        brakes = [c for c in changes if c.condition.kind == "event_start"]
+        own = {c.event for c in changes}
+        brakes = [c for c in changes if c.condition.kind == "event_start" and c.condition.ref in own]
+        starts = [c for c in changes if c not in brakes]
+        after = brakes[0].condition.delay_s if brakes else 0.0
+        if len(starts) == 2 and not brakes:
+            times = [self.triggers.resolve(c.condition) for c in starts]
+            if all(t.kind == "time" for t in times):
+                order = sorted(range(2), key=lambda i: times[i].value)
+                starts, brakes = [starts[order[0]]], [starts[order[1]]]
+                after = times[order[1]].value - times[order[0]].value
         if len(starts) > 1 or len(brakes) > 1:
             raise self.error(changes[-1].line, f"entity {entity.name!r}: a VRU starts once and brakes at most once")
         if not starts:
@@ -158,16 +228,23 @@ class ScenarioBuilder:
             accel = {"max_accel_mps2": entity.max_accel_mps2} if entity.max_accel_mps2 else {}
             return {"top_speed_mps": initial} | accel
         start = starts[0]
-        fields = {
-            "top_speed_mps": _rate_needed(self, start).target_mps,
-            "max_accel_mps2": start.rate_mps2,
-            "trigger": self.trigger(start.condition),
-        }
+        top = start.target_mps
+        accel = _rate(start, initial) if top != initial else None
+        trigger = self.triggers.vru_trigger(start.condition, entity.name)
+        fields: dict[str, Any] = {"top_speed_mps": top, "trigger": trigger}
+        if top != initial:
+            fields["max_accel_mps2"] = accel if accel is not None else STEP_RATE_MPS2
+        elif isinstance(start, RampedSpeedChange) and start.ramp.dimension == "rate" and start.rate_mps2:
+            fields["max_accel_mps2"] = start.rate_mps2
         if brakes:
-            brake = _rate_needed(self, brakes[0])
-            if brake.condition.ref != start.event or brake.target_mps != 0.0:
+            brake = brakes[0]
+            if brake.target_mps != 0.0:
                 raise self.error(brake.line, f"entity {entity.name!r}: a brake is a stop to 0 after the start event")
-            fields["brake"] = {"after_trigger_s": brake.condition.delay_s, "decel_mps2": brake.rate_mps2}
+            ramping = top != initial and abs(top - initial) / fields["max_accel_mps2"] > after + 1e-9
+            if ramping and isinstance(brake, RampedSpeedChange) and brake.ramp.dimension in ("time", "distance"):
+                raise self.error(brake.line, f"entity {entity.name!r}: the stop starts before the top speed is reached")
+            decel = _rate(brake, top) if top > 0 else None
+            fields["brake"] = {"after_trigger_s": after, "decel_mps2": decel if decel is not None else STEP_RATE_MPS2}
         return fields
 
     def vru_fields(self, entity: EntityDef, kind: VruType) -> dict[str, Any]:
@@ -215,12 +292,21 @@ class ScenarioBuilder:
         for condition in self.story.stop:
             if condition.kind == "time":
                 fields["duration_s"] = condition.value
-            elif condition.kind == "event_start" or (condition.kind == "travel" and condition.ref != self.ego.name):
+            elif condition.kind == "collision" or (
+                condition.kind == "travel" and condition.ref == self.ego.name and condition.delay_s == 0.0
+            ):
+                continue
+            else:
                 raise self.error(condition.line, "the stop trigger may be a time, the ego's travel or a collision")
         return fields
 
     def mapping(self) -> dict[str, Any]:
         """The scenario mapping without name, description and road."""
+        ego = self.ego_fields()
+        try:
+            self.triggers.ego = Ego.model_validate(ego)
+        except ValidationError as error:
+            raise UserInputError(describe_validation_error(error, f"{self.doc.source}: ego")) from None
         vrus, obstacles = [], []
         for entity in self.entities:
             if entity is self.ego:
@@ -231,7 +317,7 @@ class ScenarioBuilder:
             else:
                 obstacles.append(self.obstacle_fields(entity))
         data: dict[str, Any] = {
-            "ego": self.ego_fields(),
+            "ego": ego,
             "vrus": vrus,
             "obstacles": obstacles,
             "sim": self.sim_fields(),
@@ -241,10 +327,18 @@ class ScenarioBuilder:
         return data
 
 
-def _rate_needed(builder: ScenarioBuilder, change: SpeedChange) -> SpeedChange:
-    if change.rate_mps2 is None:
-        raise builder.error(change.line, "a VRU's speed change must be linear at a rate (dynamicsDimension rate)")
-    return change
+def _dynamics(change: SpeedChange, message: str) -> tuple[int, str]:
+    """(line, message naming the element) of an error about a speed change's dynamics."""
+    if isinstance(change, RampedSpeedChange) and change.ramp.line:
+        return change.ramp.line, f"<SpeedActionDynamics> {message}"
+    return change.line, f"<LongitudinalAction> {message}"
+
+
+def _rate(change: SpeedChange, from_mps: float) -> float | None:
+    """The constant rate of a speed change from `from_mps` (m/s^2); None: a step."""
+    if isinstance(change, RampedSpeedChange):
+        return change.ramp.rate_mps2(from_mps, change.target_mps)
+    return change.rate_mps2
 
 
 def _length(vertices: tuple[WorldPose, ...]) -> float:

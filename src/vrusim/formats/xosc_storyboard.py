@@ -2,8 +2,10 @@
 speed changes with their start conditions, the stop conditions and the time of day.
 
 Init: TeleportAction, a step SpeedAction, a FollowTrajectoryAction, and a GlobalAction EnvironmentAction with a
-`<TimeOfDay>` (night: before `DAY_STARTS_H` or from `NIGHT_STARTS_H`). Story: acts started at t = 0, maneuver
-groups of one actor, events of private actions (`xosc_actions`), one start condition each (`xosc_conditions`).
+`<TimeOfDay>` (night: before `DAY_STARTS_H` or from `NIGHT_STARTS_H`; also in an event started at t = 0). Story:
+acts started at t = 0, maneuver groups of one actor, events of private actions (`xosc_actions`), one start trigger
+each (`xosc_conditions`). Appearance and light actions are ignored and listed in `ImportNotes`; weather, road
+conditions and controller assignments too with `ImportNotes.lenient`, else they are refused.
 """
 
 from __future__ import annotations
@@ -12,10 +14,11 @@ from datetime import datetime
 
 from vrusim.formats.xml_file import Element, shown
 from vrusim.formats.xodr_model import Network
-from vrusim.formats.xosc_actions import PRIVATE_ACTIONS, follow_trajectory, speed, teleport
+from vrusim.formats.xosc_actions import NEUTRAL_ACTIONS, PRIVATE_ACTIONS, follow_trajectory, speed, teleport
 from vrusim.formats.xosc_conditions import read_trigger
 from vrusim.formats.xosc_document import XoscDocument
-from vrusim.formats.xosc_model import Condition, Motion, SpeedChange, StoryDef, Trajectory
+from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory
+from vrusim.formats.xosc_notes import ImportNotes
 
 DAY_STARTS_H, NIGHT_STARTS_H = 6, 20
 """Hours (local time of day) between which a `<TimeOfDay>` is daylight; outside them it is night."""
@@ -24,8 +27,8 @@ AT_START = Condition("time", 0.0)
 
 
 class _StoryReader:
-    def __init__(self, doc: XoscDocument, network: Network, entities: set[str]) -> None:
-        self.doc, self.network, self.entities = doc, network, entities
+    def __init__(self, doc: XoscDocument, network: Network, entities: set[str], notes: ImportNotes) -> None:
+        self.doc, self.network, self.entities, self.notes = doc, network, entities, notes
         self.story = StoryDef(motions={name: Motion() for name in entities})
 
     def motion(self, element: Element, name: str) -> Motion:
@@ -36,16 +39,22 @@ class _StoryReader:
     def private(self, element: Element, name: str, condition: Condition, event: str) -> None:
         """One `<PrivateAction>` of entity `name`, started by `condition` (in event `event`; "" for Init)."""
         doc, motion = self.doc, self.motion(element, name)
-        action = doc.single(element, PRIVATE_ACTIONS)
-        if action.tag == "TeleportAction":
+        action = doc.single(element, PRIVATE_ACTIONS | NEUTRAL_ACTIONS)
+        if action.tag in ("AppearanceAction", "LightStateAction"):
+            self.notes.ignore(action, "lights and appearance do not change the motion")
+        elif action.tag in NEUTRAL_ACTIONS:
+            self.controller(action)
+        elif action.tag == "TeleportAction":
             if event:
                 raise doc.fail(action, "is only supported in <Init>")
             motion.pose = teleport(doc, action, self.network)
         elif action.tag == "LongitudinalAction":
-            target, rate = speed(doc, action)
+            target, ramp = speed(doc, action)
             if event:
-                motion.speed_changes.append(SpeedChange(event, target, rate, condition, action.line))
-            elif rate is not None:
+                rate = ramp.value if ramp.dimension == "rate" and ramp.shape == "linear" else None
+                change = RampedSpeedChange(event, target, rate, condition, action.line, ramp=ramp)
+                motion.speed_changes.append(change)
+            elif ramp.shape != "step":
                 raise doc.fail(action, "an initial speed must be a step (dynamicsShape step)")
             else:
                 motion.initial_speed_mps = target
@@ -55,12 +64,27 @@ class _StoryReader:
             vertices, offset = follow_trajectory(doc, action, self.network)
             motion.trajectory = Trajectory(vertices, offset, condition, action.line)
 
+    def controller(self, action: Element) -> None:
+        """A controller assignment or activation: no effect on the motion (the ego and VRUs follow the file)."""
+        stack = list(action.children)
+        while stack:
+            inner = stack.pop()
+            if inner.tag == "OverrideControllerValueAction":
+                raise self.doc.fail(inner, "is not supported: it changes the motion")
+            stack.extend(inner.children)
+        self.notes.tolerate(self.doc, action, "controllers do not change the motion vrusim imports")
+
     def environment(self, element: Element) -> None:
         doc = self.doc
         action = doc.single(element, {"EnvironmentAction"})
         environment = doc.single(action, {"Environment"})
-        doc.children(environment, {"ParameterDeclarations", "TimeOfDay"})
-        time_of_day = doc.child(environment, "TimeOfDay")
+        doc.children(environment, {"ParameterDeclarations", "TimeOfDay", "Weather", "RoadCondition"})
+        for child in environment.children:
+            if child.tag in ("Weather", "RoadCondition"):
+                self.notes.tolerate(doc, child, "vrusim has no weather or road-condition model")
+        time_of_day = doc.optional(environment, "TimeOfDay")
+        if time_of_day is None:
+            return
         text = doc.text(time_of_day, "dateTime")
         try:
             hour = datetime.fromisoformat(text).hour
@@ -83,9 +107,15 @@ class _StoryReader:
         doc = self.doc
         doc.children(element, {"Action", "StartTrigger"})
         name = doc.text(element, "name")
-        condition = read_trigger(doc, doc.child(element, "StartTrigger"), single=True)[0]
+        condition = read_trigger(doc, doc.child(element, "StartTrigger"), single=True, network=self.network)[0]
         for action in element.all("Action"):
-            self.private(doc.single(action, {"PrivateAction"}), actor, condition, name)
+            inner = doc.single(action, {"PrivateAction", "GlobalAction"})
+            if inner.tag == "PrivateAction":
+                self.private(inner, actor, condition, name)
+            elif (condition.kind, condition.value) != ("time", 0.0):
+                raise doc.fail(inner, "is only supported in an event started at simulation time 0")
+            else:
+                self.environment(inner)
 
     def group(self, element: Element) -> None:
         doc = self.doc
@@ -125,7 +155,7 @@ class _StoryReader:
             _no_parameters(doc, story)
             for act in story.all("Act"):
                 self.act(act)
-        self.story.stop = read_trigger(doc, doc.child(element, "StopTrigger"), single=False)
+        self.story.stop = read_trigger(doc, doc.child(element, "StopTrigger"), single=False, network=self.network)
         return self.story
 
 
@@ -135,6 +165,9 @@ def _no_parameters(doc: XoscDocument, element: Element) -> None:
         raise doc.fail(declarations, "is not supported here (declare parameters at the top of the file)")
 
 
-def read_storyboard(doc: XoscDocument, storyboard: Element, network: Network, entities: set[str]) -> StoryDef:
-    """The storyboard of the file: every entity of `entities` has a `Motion` (empty when the file gives none)."""
-    return _StoryReader(doc, network, entities).storyboard(storyboard)
+def read_storyboard(
+    doc: XoscDocument, storyboard: Element, network: Network, entities: set[str], notes: ImportNotes | None = None
+) -> StoryDef:
+    """The storyboard of the file: every entity of `entities` has a `Motion` (empty when the file gives none).
+    Ignored elements are listed in `notes`."""
+    return _StoryReader(doc, network, entities, notes or ImportNotes()).storyboard(storyboard)
