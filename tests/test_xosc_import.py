@@ -199,13 +199,13 @@ def test_no_logic_file_element_is_refused(tmp_path):
     _refused(path, "<RoadNetwork>", "<LogicFile>")
 
 
-def test_a_catalog_reference_is_refused(tmp_path):
+def test_a_reference_to_an_unknown_catalog_is_refused(tmp_path):
     path = _exported(tmp_path)
     text = path.read_text()
     start = text.index('<ScenarioObject name="vru0">') + len('<ScenarioObject name="vru0">')
     end = text.index("</ScenarioObject>", start)
     path.write_text(text[:start] + '<CatalogReference catalogName="People" entryName="adult"/>' + text[end:])
-    _refused(path, "<CatalogReference>", "catalog reference", "vru0")
+    _refused(path, "<CatalogReference>", "line 36", "'People'", "no such catalog")
 
 
 def test_an_undeclared_parameter_is_refused(tmp_path):

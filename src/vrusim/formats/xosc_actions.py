@@ -1,10 +1,11 @@
-"""Read the private actions vrusim imports: TeleportAction, SpeedAction (absolute target) and
-FollowTrajectoryAction with a polyline.
+"""Read the private actions vrusim imports: TeleportAction, SpeedAction (absolute target) and FollowTrajectoryAction
+with a polyline.
 
-A speed action is a step (at once) or linear at a rate (m/s^2), over a time (s) or over a distance (m); cubic
-and sinusoidal dynamics and relative targets are refused. A trajectory is a `<Polyline>` of positions, inline (no
-catalog reference), not closed, with no timing (`<TimeReference><None/>`). Every other action (AssignRouteAction,
-lane changes, ...) is refused, naming the element and its line.
+A speed action is a step (at once) or linear at a rate (m/s^2), over a time (s) or over a distance (m); cubic and
+sinusoidal dynamics and relative targets are refused. A trajectory is a `<Polyline>` of positions, inline or a
+catalog entry (`xosc_catalogs`, read in the entry's parameter scope), not closed, with no timing
+(`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, ...) is refused, naming the element
+and its line.
 """
 
 from __future__ import annotations
@@ -72,19 +73,19 @@ def follow_trajectory(doc: XoscDocument, action: Element, network: Network) -> t
     doc.children(
         follow, {"TrajectoryRef", "Trajectory", "CatalogReference", "TimeReference", "TrajectoryFollowingMode"}
     )
-    holder = follow.first("TrajectoryRef") or follow
-    trajectory = doc.single(holder, {"Trajectory", "CatalogReference"}) if holder is not follow else None
-    if trajectory is None:
-        reference = follow.first("CatalogReference")
-        if reference is not None:
-            raise doc.fail(reference, "(a catalog reference) is not supported; write the trajectory inline")
-        trajectory = doc.child(follow, "Trajectory")
+    holder = follow.first("TrajectoryRef")
+    if holder is not None:
+        trajectory = doc.single(holder, {"Trajectory", "CatalogReference"})
+    else:
+        trajectory = doc.child(follow, "CatalogReference" if follow.first("CatalogReference") else "Trajectory")
+    scope = doc
     if trajectory.tag == "CatalogReference":
-        raise doc.fail(trajectory, "(a catalog reference) is not supported; write the trajectory inline")
+        entry = doc.catalog_entry(trajectory, ("TrajectoryCatalog",), {"Trajectory"})
+        scope, trajectory = entry.doc, entry.element
     timing = doc.single(doc.child(follow, "TimeReference"), {"None", "Timing"})
     if timing.tag != "None":
         raise doc.fail(timing, "is not supported: a trajectory is followed at the entity's own speed")
     mode = doc.child(follow, "TrajectoryFollowingMode")
     doc.choice(mode, "followingMode", ("position", "follow"))
     offset = doc.number(follow, "initialDistanceOffset", 0.0)
-    return _polyline(doc, trajectory, network), offset
+    return _polyline(scope, trajectory, network), offset

@@ -10,12 +10,16 @@ from __future__ import annotations
 
 import math
 import re
+from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, shown
 from vrusim.formats.xosc_expression import ExpressionError, Value, evaluate, value_text
 from vrusim.formats.xosc_parameters import convert, parameter_type
 from vrusim.limits import check_limit
+
+if TYPE_CHECKING:
+    from vrusim.formats.xosc_catalogs import CatalogEntry, Catalogs
 
 _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
 
@@ -30,6 +34,8 @@ class XoscDocument:
         """Typed values (double or bool; text for string and dateTime) of the parameters, as expressions see them."""
         self.overrides = dict(overrides or {})
         """Parameter values given from outside (name -> text), replacing the declared values."""
+        self.catalogs: Catalogs | None = None
+        """The scenario's catalog locations (`xosc_catalogs`); None: catalog references are refused."""
 
     def fail(self, element: Element, message: str) -> UserInputError:
         """A user error at `element`: file, line, element tag, message."""
@@ -41,6 +47,12 @@ class XoscDocument:
         return self.fail(
             element, f"is not supported{inside} (vrusim imports the subset in docs/openscenario_import.md)"
         )
+
+    def catalog_entry(self, reference: Element, locations: tuple[str, ...], tags: set[str]) -> CatalogEntry:
+        """The catalog entry `<CatalogReference>` `reference` names (one of `tags`, in a catalog of `locations`)."""
+        if self.catalogs is None:
+            raise self.fail(reference, "(a catalog reference) is not supported here; write the element inline")
+        return self.catalogs.entry(self, reference, locations, tags)
 
     # ------------------------------------------------------------------------------------------- parameters
 

@@ -2,12 +2,14 @@
 
 A vehicle's box centre lies `Center x` ahead of its reference point (the rear axle for cars); its wheelbase is
 the front axle's `positionX` less the rear axle's, its steering limit the front axle's `maxSteering` (rad).
-Catalog references, external object references, controllers and entity selections are refused.
+An entity may be a `<CatalogReference>` to a vehicle, pedestrian or misc object catalog entry (`xosc_catalogs`),
+read in the entry's parameter scope. External object references, controllers and entity selections are refused.
 """
 
 from __future__ import annotations
 
 from vrusim.formats.xml_file import Element, shown
+from vrusim.formats.xosc_catalogs import ENTITY_LOCATIONS
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import EntityDef
 
@@ -57,10 +59,13 @@ def _entity(doc: XoscDocument, scenario_object: Element) -> EntityDef:
     objects = set(_OBJECT_KINDS) | {"CatalogReference", "ExternalObjectReference", "ObjectController"}
     doc.children(scenario_object, objects)
     for child in scenario_object.children:
-        if child.tag not in _OBJECT_KINDS:
-            what = "a catalog reference" if child.tag == "CatalogReference" else f"<{child.tag}>"
-            raise doc.fail(child, f"({what} of entity {shown(name)}) is not supported; write the entity inline")
-    element = doc.single(scenario_object, set(_OBJECT_KINDS))
+        if child.tag not in _OBJECT_KINDS and child.tag != "CatalogReference":
+            raise doc.fail(child, f"(<{child.tag}> of entity {shown(name)}) is not supported; write the entity inline")
+    element = doc.single(scenario_object, set(_OBJECT_KINDS) | {"CatalogReference"})
+    line = element.line
+    if element.tag == "CatalogReference":
+        entry = doc.catalog_entry(element, ENTITY_LOCATIONS, set(_OBJECT_KINDS))
+        doc, element = entry.doc, entry.element
     doc.children(element, _ENTITY_CHILDREN[element.tag])
     declarations = element.first("ParameterDeclarations")
     if declarations is not None and declarations.children:
@@ -74,7 +79,7 @@ def _entity(doc: XoscDocument, scenario_object: Element) -> EntityDef:
         length_m=length,
         width_m=width,
         centre_x_m=centre_x,
-        line=element.line,
+        line=line,
         properties=doc.properties(element),
         **extra,
     )

@@ -1,12 +1,13 @@
 """Import an OpenSCENARIO 1.x file (`.xosc`) of the subset vrusim's export writes as a vrusim `Scenario`.
 
 `read_xosc(path)` reads the file safely (`xml_file`: size limit, no DTD or entities, line numbers), resolves its
-parameters (`xosc_document`), reads the road network its `<RoadNetwork><LogicFile>` names (relative to the
-.xosc; `xodr_reader`), the entities (`xosc_entities`) and the storyboard (`xosc_storyboard`), and builds the
-scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything outside the subset is a UserInputError
-naming the file, the line and the element (docs/openscenario_import.md). The planner, sensor, V2X and
-simulation step are not in the file: the scenario gets vrusim's defaults for them. `import_xosc` also returns the
-warnings: elements ignored because they do not change the motion (`xosc_notes`; more of them with `lenient`).
+parameters (`xosc_document`) and its catalog locations (`xosc_catalogs`), reads the road network its
+`<RoadNetwork><LogicFile>` names (relative to the .xosc; `xodr_reader`), the entities (`xosc_entities`) and the
+storyboard (`xosc_storyboard`), and builds the scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything
+outside the subset is a UserInputError naming the file, the line and the element (docs/openscenario_import.md). The
+planner, sensor, V2X and simulation step are not in the file: the scenario gets vrusim's defaults for them.
+`import_xosc` also returns the warnings: elements ignored because they do not change the motion (`xosc_notes`; more
+of them with `lenient`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, read_xml_file, shown
 from vrusim.formats.xodr_model import Network
 from vrusim.formats.xodr_reader import read_xodr
+from vrusim.formats.xosc_catalogs import Catalogs
 from vrusim.formats.xosc_distribution import DISTRIBUTION_TAG, is_distribution
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_entities import read_entities
@@ -61,12 +63,6 @@ def _road_network(doc: XoscDocument, root: Element, path: Path) -> Network:
     return read_xodr(road_file)
 
 
-def _catalogs(doc: XoscDocument, root: Element) -> None:
-    catalogs = root.first("CatalogLocations")
-    if catalogs is not None and catalogs.children:
-        raise doc.fail(catalogs.children[0], "(a catalog) is not supported; write entities and trajectories inline")
-
-
 @dataclass(frozen=True)
 class XoscImport:
     """An imported file: the scenario and the warnings (ignored elements, with their lines)."""
@@ -92,7 +88,7 @@ def parse_root(
     doc.children(root, _TOP_LEVEL)
     name, description = _header(doc, root, path)
     doc.declare(root.first("ParameterDeclarations"))
-    _catalogs(doc, root)
+    doc.catalogs = Catalogs.read(doc, doc.optional(root, "CatalogLocations"), path)
     network = _road_network(doc, root, path)
     entities = read_entities(doc, doc.child(root, "Entities"))
     story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities}, notes)

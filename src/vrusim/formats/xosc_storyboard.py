@@ -3,9 +3,10 @@ speed changes with their start conditions, the stop conditions and the time of d
 
 Init: TeleportAction, a step SpeedAction, a FollowTrajectoryAction, and a GlobalAction EnvironmentAction with a
 `<TimeOfDay>` (night: before `DAY_STARTS_H` or from `NIGHT_STARTS_H`; also in an event started at t = 0). Story:
-acts started at t = 0, maneuver groups of one actor, events of private actions (`xosc_actions`), one start trigger
-each (`xosc_conditions`). Appearance and light actions are ignored and listed in `ImportNotes`; weather, road
-conditions and controller assignments too with `ImportNotes.lenient`, else they are refused.
+acts started at t = 0, maneuver groups of one actor, maneuvers inline or from a catalog (`xosc_catalogs`), events of
+private actions (`xosc_actions`), one start trigger each (`xosc_conditions`). Appearance and light actions are
+ignored and listed in `ImportNotes`; weather, road conditions and controller assignments too with
+`ImportNotes.lenient`, else they are refused.
 """
 
 from __future__ import annotations
@@ -126,12 +127,21 @@ class _StoryReader:
         actor = doc.text(actors[0], "entityRef")
         for maneuver in element.children:
             if maneuver.tag == "CatalogReference":
-                raise doc.fail(maneuver, "(a catalog reference) is not supported; write the maneuver inline")
-            if maneuver.tag == "Maneuver":
-                doc.children(maneuver, {"ParameterDeclarations", "Event"})
+                entry = doc.catalog_entry(maneuver, ("ManeuverCatalog",), {"Maneuver"})
+                self.doc = entry.doc
+                try:
+                    self.maneuver(entry.element, actor)
+                finally:
+                    self.doc = doc
+            elif maneuver.tag == "Maneuver":
                 _no_parameters(doc, maneuver)
-                for event in maneuver.all("Event"):
-                    self.event(event, actor)
+                self.maneuver(maneuver, actor)
+
+    def maneuver(self, maneuver: Element, actor: str) -> None:
+        """The events of `<Maneuver>` `maneuver` (inline, or a catalog entry read in its own scope)."""
+        self.doc.children(maneuver, {"ParameterDeclarations", "Event"})
+        for event in maneuver.all("Event"):
+            self.event(event, actor)
 
     def act(self, element: Element) -> None:
         doc = self.doc
