@@ -129,7 +129,9 @@ class _ConditionReader:
         kind = doc.single(element, {"ByValueCondition", "ByEntityCondition"})
         if kind.tag == "ByEntityCondition":
             return self.by_entity(kind, delay)
-        value = doc.single(kind, {"SimulationTimeCondition", "StoryboardElementStateCondition"})
+        value = doc.single(kind, {"SimulationTimeCondition", "StoryboardElementStateCondition", "VariableCondition"})
+        if value.tag == "VariableCondition":
+            raise doc.fail(value, "is not supported: vrusim keeps variables at their declared values")
         if value.tag == "SimulationTimeCondition":
             return self.time(value, delay)
         return self.event_started(value, delay)

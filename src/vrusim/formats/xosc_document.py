@@ -34,6 +34,8 @@ class XoscDocument:
         """Typed values (double or bool; text for string and dateTime) of the parameters, as expressions see them."""
         self.overrides = dict(overrides or {})
         """Parameter values given from outside (name -> text), replacing the declared values."""
+        self.variables: dict[str, str] = {}
+        """Declared variables (name -> value text, typed like parameters); kept at their declared values."""
         self.catalogs: Catalogs | None = None
         """The scenario's catalog locations (`xosc_catalogs`); None: catalog references are refused."""
 
@@ -77,6 +79,22 @@ class XoscDocument:
         if self.overrides:
             names = ", ".join(shown(n) for n in sorted(self.overrides))
             raise UserInputError(f"{self.source}: parameter(s) {names} given a value but not declared in the file")
+
+    def declare_variables(self, declarations: Element | None) -> None:
+        """Read `<VariableDeclarations>` (OpenSCENARIO 1.2): each value typed like a parameter's (its `value` may
+        refer to parameters). Variables are not `$name` references; conditions and actions on them are refused."""
+        for element in self.children(declarations or Element("VariableDeclarations", {}, 0), {"VariableDeclaration"}):
+            self.children(element, set())
+            name = self.raw(element, "name")
+            kind = parameter_type(self.raw(element, "variableType"))
+            if kind is None or kind == "infer":
+                raise self.fail(element, f"attribute variableType: {shown(element.attrib['variableType'])} is unknown")
+            if name in self.variables:
+                raise self.fail(element, f"variable {shown(name)} is declared twice")
+            try:
+                self.variables[name] = convert(self.text(element, "value"), kind)[0]
+            except ValueError as error:
+                raise self.fail(element, f"variable {shown(name)}: attribute value: {error}") from None
 
     def resolve(self, element: Element, name: str, text: str) -> str:
         """The value of an attribute: a parameter reference replaced by the parameter's value."""

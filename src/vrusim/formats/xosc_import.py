@@ -31,7 +31,15 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 
 XOSC_SUFFIX = ".xosc"
-_TOP_LEVEL = {"FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork", "Entities", "Storyboard"}
+_TOP_LEVEL = {
+    "FileHeader",
+    "ParameterDeclarations",
+    "VariableDeclarations",
+    "CatalogLocations",
+    "RoadNetwork",
+    "Entities",
+    "Storyboard",
+}
 
 
 def _header(doc: XoscDocument, root: Element, path: Path) -> tuple[str, str]:
@@ -88,6 +96,7 @@ def parse_root(
     doc.children(root, _TOP_LEVEL)
     name, description = _header(doc, root, path)
     doc.declare(root.first("ParameterDeclarations"))
+    doc.declare_variables(doc.optional(root, "VariableDeclarations"))
     doc.catalogs = Catalogs.read(doc, doc.optional(root, "CatalogLocations"), path)
     network = _road_network(doc, root, path)
     entities = read_entities(doc, doc.child(root, "Entities"))

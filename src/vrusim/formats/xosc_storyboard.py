@@ -77,7 +77,9 @@ class _StoryReader:
 
     def environment(self, element: Element) -> None:
         doc = self.doc
-        action = doc.single(element, {"EnvironmentAction"})
+        action = doc.single(element, {"EnvironmentAction", "VariableAction"})
+        if action.tag == "VariableAction":
+            raise doc.fail(action, "is not supported: setting a variable could change the motion")
         environment = doc.single(action, {"Environment"})
         doc.children(environment, {"ParameterDeclarations", "TimeOfDay", "Weather", "RoadCondition"})
         for child in environment.children:
