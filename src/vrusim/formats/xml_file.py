@@ -9,11 +9,14 @@ UserInputError naming the file and line.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from xml.parsers import expat
 
 from vrusim.errors import UserInputError
+from vrusim.limits import check_limit
 from vrusim.scenario.yaml_file import read_checked_text
 
 _SHOWN_CHARS = 40
@@ -90,3 +93,18 @@ def parse_xml(text: str, source: str) -> Element:
 def read_xml_file(path: Path, kind: str) -> Element:
     """The root element of the XML file `path` (a `kind` file, e.g. "OpenDRIVE"); refused as described above."""
     return parse_xml(read_checked_text(Path(path), kind), str(path))
+
+
+def attribute_number(
+    fail: Callable[[Element, str], UserInputError], source: str, element: Element, name: str, text: str
+) -> float:
+    """The finite number `text` of attribute `name` of `element` in file `source`; otherwise `fail(element,
+    reason)` is raised (the text no longer than `number_chars` either)."""
+    check_limit("number_chars", len(text), f"{source}: line {element.line}: <{element.tag}> {name}")
+    try:
+        value = float(text)
+    except ValueError:
+        raise fail(element, f"attribute {name}: expected a number, got {shown(text)}") from None
+    if not math.isfinite(value):
+        raise fail(element, f"attribute {name}: expected a finite number, got {shown(text)}")
+    return value

@@ -9,11 +9,10 @@ UserInputError naming the file, the line and the element (docs/opendrive_import.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from vrusim.errors import UserInputError
-from vrusim.formats.xml_file import Element, parse_xml, read_xml_file, shown
+from vrusim.formats.xml_file import Element, attribute_number, parse_xml, read_xml_file, shown
 from vrusim.formats.xodr_model import (
     Arc,
     Connection,
@@ -54,15 +53,7 @@ class _Reader:
     def number(self, element: Element, name: str, default: float | None = None) -> float:
         if name not in element.attrib and default is not None:
             return default
-        text = self.text(element, name)
-        check_limit("number_chars", len(text), f"{self.source}: line {element.line}: <{element.tag}> {name}")
-        try:
-            value = float(text)
-        except ValueError:
-            raise self.fail(element, f"attribute {name}: expected a number, got {shown(text)}") from None
-        if not math.isfinite(value):
-            raise self.fail(element, f"attribute {name}: expected a finite number, got {shown(text)}")
-        return value
+        return attribute_number(self.fail, self.source, element, name, self.text(element, name))
 
     def integer(self, element: Element, name: str) -> int:
         value = self.number(element, name)

@@ -8,15 +8,13 @@ replace the declared ones. Every failure is a UserInputError naming the file, th
 
 from __future__ import annotations
 
-import math
 import re
 from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
-from vrusim.formats.xml_file import Element, shown
+from vrusim.formats.xml_file import Element, attribute_number, shown
 from vrusim.formats.xosc_expression import ExpressionError, Value, evaluate, value_text
 from vrusim.formats.xosc_parameters import convert, parameter_type
-from vrusim.limits import check_limit
 
 if TYPE_CHECKING:
     from vrusim.formats.xosc_catalogs import CatalogEntry, Catalogs
@@ -134,15 +132,7 @@ class XoscDocument:
         """A finite number attribute (default when missing and a default is given)."""
         if name not in element.attrib and default is not None:
             return default
-        text = self.text(element, name)
-        check_limit("number_chars", len(text), f"{self.source}: line {element.line}: <{element.tag}> {name}")
-        try:
-            value = float(text)
-        except ValueError:
-            raise self.fail(element, f"attribute {name}: expected a number, got {shown(text)}") from None
-        if not math.isfinite(value):
-            raise self.fail(element, f"attribute {name}: expected a finite number, got {shown(text)}")
-        return value
+        return attribute_number(self.fail, self.source, element, name, self.text(element, name))
 
     def choice(self, element: Element, name: str, options: tuple[str, ...], default: str | None = None) -> str:
         """An attribute that must be one of `options`."""
