@@ -47,12 +47,25 @@ def env_name(name: str) -> str:
     return f"VRUSIM_LIMIT_{name.upper()}"
 
 
+_ENV_NAMES = {name: env_name(name) for name in LIMITS}
+_PARSED: dict[tuple[str, str], float] = {}
+"""Values read from the environment, by (limit, text): validation reads a limit per bounded field."""
+
+
 def limit(name: str) -> float:
     """The value of limit `name`: its environment variable if set (a positive number), else the default."""
-    entry = LIMITS[name]
-    text = os.environ.get(env_name(name))
+    text = os.environ.get(_ENV_NAMES[name])
     if text is None:
-        return entry.default
+        return LIMITS[name].default
+    parsed = _PARSED.get((name, text))
+    if parsed is None:
+        parsed = _PARSED[(name, text)] = _parse(name, text)
+    return parsed
+
+
+def _parse(name: str, text: str) -> float:
+    """The limit `text` sets, or a UserInputError naming its variable."""
+    entry = LIMITS[name]
     try:
         value = float(text)
     except ValueError:
