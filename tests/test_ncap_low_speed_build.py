@@ -193,3 +193,26 @@ def test_cbda_cyclist_first_touches_the_opening_door_at_its_rear_edge_by_hand():
     assert run.rows[0]["collided"] and run.run.metrics.contact_time_s[0] == pytest.approx(t_s[first], abs=0.011)
     nearest_u = min(max(along[first], 0.0), 1.1)  # the door point nearest the circle's centre, along the door
     assert nearest_u == pytest.approx(1.1, abs=0.05)  # the circle meets the door's rear edge
+
+
+def test_batched_probes_build_the_same_tests_with_one_probe_batch(monkeypatch):
+    """`ncap.probes.batched_probes` runs every start-off / pedal probe of the low-speed tests in one batch; the
+    tests built from it equal those built with one probe run each (a run is bit-identical alone and in a batch)."""
+    import functools
+
+    from vrusim.ncap import probes
+    from vrusim.ncap.build import build_test
+    from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS
+    from vrusim.ncap.grid import select
+
+    tests = [t for t in select(night=True, protocol="2026") if t.spec.layout in LOW_SPEED_LAYOUTS]
+    monkeypatch.setattr(probes, "_RUNS", {})
+    single = [build_test(t).scenario.model_dump_json() for t in tests]
+    batches = []
+    run = probes._run
+    monkeypatch.setattr(probes, "_run", lambda keys: (batches.append(len(keys)), run(keys))[1])
+    monkeypatch.setattr(probes, "_RUNS", {})
+    probes.batched_probes([functools.partial(build_test, t) for t in tests])
+    assert len(batches) == 1 and batches[0] >= 3  # start-off forward / reversing, pedal misapplication
+    assert [build_test(t).scenario.model_dump_json() for t in tests] == single
+    assert len(batches) == 1  # the second build ran no probe

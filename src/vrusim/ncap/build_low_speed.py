@@ -11,14 +11,9 @@ from a probe run of the VUT alone (`start_off_probe_s`): it includes the actuato
 
 from __future__ import annotations
 
-import functools
-import json
 import math
 from typing import Any
 
-import numpy as np
-
-from vrusim.engine.simulate import simulate
 from vrusim.ncap.editions.lsc26 import (
     CBDA_DOOR_OPERATION_M,
     CBDA_PATH_CLEARANCE_M,
@@ -27,6 +22,7 @@ from vrusim.ncap.editions.lsc26 import (
     CPMFC_TACC_TO_TARGET_M,
     CPMRCM_TARGET_START_M,
 )
+from vrusim.ncap.probes import travel_probe_s
 from vrusim.ncap.protocol import KPH, LANE_WIDTH_M, OBSTRUCTION_CARS
 from vrusim.ncap.test_case import SENSOR_FOV_DEG, SENSOR_RANGE_M, VUT, BuiltTest, NcapTest, Nominal
 from vrusim.scenario.schema import Scenario
@@ -76,35 +72,6 @@ def start_off_probe_s(ego: dict, travel_m: float) -> float:
     ignores the lag (about 0.09 s late)."""
     duration_s = math.ceil(start_off_time_s(travel_m) + 2.0)  # whole seconds: probes of similar tests are shared
     return travel_probe_s({**ego, "driver": start_off_driver(0.0)}, travel_m, duration_s)
-
-
-PROBE_ROUTE_M = 500.0
-"""Route of a probe run, m: far more than a low-speed VUT covers in the probe's seconds."""
-
-
-def travel_probe_s(ego: dict, travel_m: float, duration_s: float) -> float:
-    """Time until the ego (its driver, planner `none`) has travelled `travel_m`, s, from a probe run of the ego
-    alone, interpolated between steps. Probes of the same dynamics share one run (the start pose and route
-    do not change the travel along the route)."""
-    dynamics = {key: value for key, value in ego.items() if key not in ("start", "route")}
-    t, station = _probe(json.dumps(dynamics, sort_keys=True), round(duration_s, 2))
-    k = int(np.argmax(station >= travel_m))
-    if station[k] < travel_m or k == 0:
-        raise ValueError(f"the probe does not travel {travel_m:g} m in {duration_s:g} s")
-    return float(t[k - 1] + (travel_m - station[k - 1]) / (station[k] - station[k - 1]) * (t[k] - t[k - 1]))
-
-
-@functools.lru_cache(maxsize=64)
-def _probe(dynamics_json: str, duration_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """(time s, route station m) of the ego with these dynamics driving alone from rest on a straight route
-    long enough never to end within `duration_s`."""
-    ego = {**json.loads(dynamics_json), "start": {"x_m": 0.0, "y_m": 0.0, "heading_deg": 0.0}}
-    ego["route"] = {"kind": "straight", "length_m": PROBE_ROUTE_M}
-    far = {"type": "pedestrian", "start": {"x_m": 1e4, "y_m": 1e4}, "heading_deg": 0.0, "top_speed_mps": 0.0}
-    mapping = {"name": "probe", "ego": ego, "planner": {"name": "none"}, "vrus": [far],
-               "sim": {"dt_s": DT_S, "duration_s": duration_s}}  # fmt: skip
-    trace = simulate([Scenario.model_validate(mapping)], trace=True).trace
-    return trace["t_s"], trace["ego_station_m"][:, 0].copy()
 
 
 def first_step_at_s(t_s: float) -> float:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -9,7 +10,9 @@ from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.errors import UserInputError
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import BuiltTest, NcapTest, build_test
+from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS
 from vrusim.ncap.editions import edition
+from vrusim.ncap.probes import batched_probes
 from vrusim.ncap.protocol import KPH, NcapScenario
 from vrusim.planners.base import planner_warning
 from vrusim.planners.registry import make_planner
@@ -59,6 +62,9 @@ class CatalogueRun:
 
 def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False) -> CatalogueRun:
     """Build every test and run them all as one batch; rows carry what the Euro NCAP assessment needs."""
+    tests = list(tests)
+    low_speed = [test for test in tests if test.spec.layout in LOW_SPEED_LAYOUTS]
+    batched_probes([functools.partial(build_test, test, planner, v2x) for test in low_speed])  # one probe batch
     built = [build_test(test, planner, v2x) for test in tests]
     if not built:
         raise UserInputError("--scenario: the selection contains no tests")
