@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from vrusim.formats.xml_file import Element
 from vrusim.formats.xodr_model import Network
+from vrusim.formats.xosc_catalogs import catalog_entry
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import Ramp, WorldPose
 from vrusim.formats.xosc_positions import read_position
@@ -80,7 +81,7 @@ def follow_trajectory(doc: XoscDocument, action: Element, network: Network) -> t
         trajectory = doc.child(follow, "CatalogReference" if follow.first("CatalogReference") else "Trajectory")
     scope = doc
     if trajectory.tag == "CatalogReference":
-        entry = doc.catalog_entry(trajectory, ("TrajectoryCatalog",), {"Trajectory"})
+        entry = catalog_entry(doc, trajectory, ("TrajectoryCatalog",), {"Trajectory"})
         scope, trajectory = entry.doc, entry.element
     timing = doc.single(doc.child(follow, "TimeReference"), {"None", "Timing"})
     if timing.tag != "None":

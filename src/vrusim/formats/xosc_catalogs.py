@@ -154,3 +154,10 @@ def _assignments(doc: XoscDocument, reference: Element, declarations: Element | 
             raise doc.fail(assignment, f"parameterRef {shown(name)} is assigned twice")
         values[name] = doc.text(assignment, "value")
     return values
+
+
+def catalog_entry(doc: XoscDocument, reference: Element, locations: tuple[str, ...], tags: set[str]) -> CatalogEntry:
+    """The catalog entry `<CatalogReference>` `reference` names (one of `tags`, in a catalog of `locations`)."""
+    if doc.catalogs is None:
+        raise doc.fail(reference, "(a catalog reference) is not supported here; write the element inline")
+    return doc.catalogs.entry(doc, reference, locations, tags)

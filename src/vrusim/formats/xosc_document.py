@@ -9,15 +9,12 @@ replace the declared ones. Every failure is a UserInputError naming the file, th
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING
+from typing import Any
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, attribute_number, shown
 from vrusim.formats.xosc_expression import ExpressionError, Value, evaluate, value_text
 from vrusim.formats.xosc_parameters import convert, parameter_type
-
-if TYPE_CHECKING:
-    from vrusim.formats.xosc_catalogs import CatalogEntry, Catalogs
 
 _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
 
@@ -34,8 +31,9 @@ class XoscDocument:
         """Parameter values given from outside (name -> text), replacing the declared values."""
         self.variables: dict[str, str] = {}
         """Declared variables (name -> value text, typed like parameters); kept at their declared values."""
-        self.catalogs: Catalogs | None = None
-        """The scenario's catalog locations (`xosc_catalogs`); None: catalog references are refused."""
+        self.catalogs: Any = None
+        """The scenario's catalog locations (`xosc_catalogs.Catalogs`; not imported here: it imports this module);
+        None: catalog references are refused (`xosc_catalogs.catalog_entry`)."""
 
     def fail(self, element: Element, message: str) -> UserInputError:
         """A user error at `element`: file, line, element tag, message."""
@@ -47,12 +45,6 @@ class XoscDocument:
         return self.fail(
             element, f"is not supported{inside} (vrusim imports the subset in docs/openscenario_import.md)"
         )
-
-    def catalog_entry(self, reference: Element, locations: tuple[str, ...], tags: set[str]) -> CatalogEntry:
-        """The catalog entry `<CatalogReference>` `reference` names (one of `tags`, in a catalog of `locations`)."""
-        if self.catalogs is None:
-            raise self.fail(reference, "(a catalog reference) is not supported here; write the element inline")
-        return self.catalogs.entry(self, reference, locations, tags)
 
     # ------------------------------------------------------------------------------------------- parameters
 

@@ -9,7 +9,7 @@ read in the entry's parameter scope. External object references, controllers and
 from __future__ import annotations
 
 from vrusim.formats.xml_file import Element, shown
-from vrusim.formats.xosc_catalogs import ENTITY_LOCATIONS
+from vrusim.formats.xosc_catalogs import ENTITY_LOCATIONS, catalog_entry
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import EntityDef
 
@@ -64,7 +64,7 @@ def _entity(doc: XoscDocument, scenario_object: Element) -> EntityDef:
     element = doc.single(scenario_object, set(_OBJECT_KINDS) | {"CatalogReference"})
     line = element.line
     if element.tag == "CatalogReference":
-        entry = doc.catalog_entry(element, ENTITY_LOCATIONS, set(_OBJECT_KINDS))
+        entry = catalog_entry(doc, element, ENTITY_LOCATIONS, set(_OBJECT_KINDS))
         doc, element = entry.doc, entry.element
     doc.children(element, _ENTITY_CHILDREN[element.tag])
     declarations = element.first("ParameterDeclarations")

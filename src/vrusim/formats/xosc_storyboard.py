@@ -16,6 +16,7 @@ from datetime import datetime
 from vrusim.formats.xml_file import Element, shown
 from vrusim.formats.xodr_model import Network
 from vrusim.formats.xosc_actions import NEUTRAL_ACTIONS, PRIVATE_ACTIONS, follow_trajectory, speed, teleport
+from vrusim.formats.xosc_catalogs import catalog_entry
 from vrusim.formats.xosc_conditions import read_trigger
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory
@@ -129,7 +130,7 @@ class _StoryReader:
         actor = doc.text(actors[0], "entityRef")
         for maneuver in element.children:
             if maneuver.tag == "CatalogReference":
-                entry = doc.catalog_entry(maneuver, ("ManeuverCatalog",), {"Maneuver"})
+                entry = catalog_entry(doc, maneuver, ("ManeuverCatalog",), {"Maneuver"})
                 self.doc = entry.doc
                 try:
                     self.maneuver(entry.element, actor)
