@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from cli_helpers import invoke
 from vrusim.formats.xosc_import import read_xosc
+from xosc_helpers import edited, refused
 
 DATA = Path(__file__).parent / "data" / "xosc" / "catalogs"
 """inline.xosc (an export of CPNA-25/20kph/day) and catalogs.xosc: the same with the ego, the pedestrian, the
@@ -21,23 +21,6 @@ def copy(tmp_path: Path) -> Path:
     """A copy of the data folder: catalogs.xosc in it, to edit."""
     shutil.copytree(DATA, tmp_path / "case")
     return tmp_path / "case" / "catalogs.xosc"
-
-
-def _edit(path: Path, old: str, new: str) -> Path:
-    text = path.read_text()
-    assert old in text, old
-    path.write_text(text.replace(old, new, 1))
-    return path
-
-
-def _refused(path: Path, *words: str) -> str:
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    for word in words:
-        assert word in message, (word, message)
-    return message
 
 
 def _line(path: Path, text: str) -> str:
@@ -53,7 +36,7 @@ def test_catalog_references_import_as_the_inline_file():
 def test_an_assignment_changes_the_entry_and_only_its_field(copy):
     base = read_xosc(copy)
     changed = read_xosc(
-        _edit(
+        edited(
             copy,
             'name="EgoLength" parameterType="double" value="4.5"',
             'name="EgoLength" parameterType="double" value="5.1"',
@@ -71,12 +54,12 @@ def test_a_scenario_parameter_overrides_the_assignment_value(copy):
 
 
 def test_without_an_assignment_the_entry_default_applies(copy):
-    _edit(copy, '<ParameterAssignment parameterRef="Length" value="$EgoLength"/>', "")
+    edited(copy, '<ParameterAssignment parameterRef="Length" value="$EgoLength"/>', "")
     assert read_xosc(copy).ego.length_m == pytest.approx(4.0)
 
 
 def test_a_second_assignment_reaches_its_field(copy):
-    _edit(
+    edited(
         copy,
         '<ParameterAssignment parameterRef="Length" value="$EgoLength"/>',
         '<ParameterAssignment parameterRef="Length" value="$EgoLength"/>'
@@ -87,13 +70,13 @@ def test_a_second_assignment_reaches_its_field(copy):
 
 def test_an_entry_does_not_see_the_scenario_parameters(copy):
     vehicles = copy.parent / "Catalogs" / "Vehicles" / "vehicles.xosc"
-    _edit(vehicles, 'maxAcceleration="2.0"', 'maxAcceleration="$EgoInitialSpeed_mps"')
-    _refused(copy, "vehicles.xosc", "EgoInitialSpeed_mps", "not declared")
+    edited(vehicles, 'maxAcceleration="2.0"', 'maxAcceleration="$EgoInitialSpeed_mps"')
+    refused(copy, "vehicles.xosc", "EgoInitialSpeed_mps", "not declared")
 
 
-def test_an_assignment_to_an_undeclared_parameter_is_refused(copy):
-    _edit(copy, 'parameterRef="Length"', 'parameterRef="Width"')
-    _refused(
+def test_an_assignment_to_an_undeclared_parameter_isrefused(copy):
+    edited(copy, 'parameterRef="Length"', 'parameterRef="Width"')
+    refused(
         copy,
         "catalogs.xosc",
         "<ParameterAssignment>",
@@ -103,59 +86,59 @@ def test_an_assignment_to_an_undeclared_parameter_is_refused(copy):
     )
 
 
-def test_an_unknown_catalog_is_refused(copy):
-    _edit(copy, 'catalogName="People"', 'catalogName="Persons"')
-    _refused(copy, "<CatalogReference>", _line(copy, "Persons"), "'Persons'", "no such catalog")
+def test_an_unknown_catalog_isrefused(copy):
+    edited(copy, 'catalogName="People"', 'catalogName="Persons"')
+    refused(copy, "<CatalogReference>", _line(copy, "Persons"), "'Persons'", "no such catalog")
 
 
-def test_an_unknown_entry_is_refused(copy):
-    _edit(copy, 'entryName="adult"', 'entryName="child"')
-    _refused(copy, "<CatalogReference>", _line(copy, "child"), "'child'", "no such entry")
+def test_an_unknown_entry_isrefused(copy):
+    edited(copy, 'entryName="adult"', 'entryName="child"')
+    refused(copy, "<CatalogReference>", _line(copy, "child"), "'child'", "no such entry")
 
 
-def test_an_entry_of_the_wrong_kind_is_refused(copy):
+def test_an_entry_of_the_wrong_kind_isrefused(copy):
     routes = copy.parent / "Catalogs" / "Trajectories" / "trajectories.xosc"
-    _edit(routes, '<Catalog name="Routes">', '<Catalog name="Routes"><Vehicle name="car"/>')
+    edited(routes, '<Catalog name="Routes">', '<Catalog name="Routes"><Vehicle name="car"/>')
     maneuvers = copy.parent / "Catalogs" / "Maneuvers" / "maneuvers.xosc"
-    _edit(maneuvers, 'entryName="ego_route"', 'entryName="car"')
-    _refused(copy, "maneuvers.xosc", "<CatalogReference>", "'car' is a <Vehicle>", "expected <Trajectory>")
+    edited(maneuvers, 'entryName="ego_route"', 'entryName="car"')
+    refused(copy, "maneuvers.xosc", "<CatalogReference>", "'car' is a <Vehicle>", "expected <Trajectory>")
 
 
-def test_a_directory_leading_out_of_the_folder_is_refused(copy):
-    _edit(copy, 'path="Catalogs/Vehicles"', 'path="Catalogs/../../Vehicles"')
-    _refused(copy, "<Directory>", _line(copy, "../../Vehicles"), "leads outside")
+def test_a_directory_leading_out_of_the_folder_isrefused(copy):
+    edited(copy, 'path="Catalogs/Vehicles"', 'path="Catalogs/../../Vehicles"')
+    refused(copy, "<Directory>", _line(copy, "../../Vehicles"), "leads outside")
 
 
-def test_a_missing_directory_is_refused(copy):
-    _edit(copy, 'path="Catalogs/Vehicles"', 'path="Catalogs/Lorries"')
-    _refused(copy, "<Directory>", _line(copy, "Lorries"), "not a directory")
+def test_a_missing_directory_isrefused(copy):
+    edited(copy, 'path="Catalogs/Vehicles"', 'path="Catalogs/Lorries"')
+    refused(copy, "<Directory>", _line(copy, "Lorries"), "not a directory")
 
 
-def test_a_catalog_file_with_a_dtd_is_refused(copy):
+def test_a_catalog_file_with_a_dtd_isrefused(copy):
     people = copy.parent / "Catalogs" / "Pedestrians" / "pedestrians.xosc"
-    _edit(people, "<OpenSCENARIO>", '<!DOCTYPE x [<!ENTITY a "b">]>\n<OpenSCENARIO>')
-    _refused(
+    edited(people, "<OpenSCENARIO>", '<!DOCTYPE x [<!ENTITY a "b">]>\n<OpenSCENARIO>')
+    refused(
         copy, "<CatalogReference>", _line(copy, 'catalogName="People"'), "pedestrians.xosc", "document type declaration"
     )
 
 
-def test_a_catalog_file_linked_from_outside_the_directory_is_refused(copy, tmp_path):
+def test_a_catalog_file_linked_from_outside_the_directory_isrefused(copy, tmp_path):
     outside = tmp_path / "elsewhere.xosc"
     shutil.copy(copy.parent / "Catalogs" / "Pedestrians" / "pedestrians.xosc", outside)
     (copy.parent / "Catalogs" / "Pedestrians" / "pedestrians.xosc").unlink()
     (copy.parent / "Catalogs" / "Pedestrians" / "linked.xosc").symlink_to(outside)
-    _refused(copy, "<CatalogReference>", "linked.xosc", "outside the catalog directory")
+    refused(copy, "<CatalogReference>", "linked.xosc", "outside the catalog directory")
 
 
-def test_a_reference_without_catalog_locations_is_refused(copy):
+def test_a_reference_without_catalog_locations_isrefused(copy):
     text = copy.read_text()
     start, end = text.index("<CatalogLocations>"), text.index("</CatalogLocations>") + len("</CatalogLocations>")
     copy.write_text(text[:start] + "<CatalogLocations/>" + text[end:])
-    _refused(copy, "<CatalogReference>", "no such catalog")
+    refused(copy, "<CatalogReference>", "no such catalog")
 
 
-def test_a_controller_catalog_is_refused(copy):
-    _edit(
+def test_a_controller_catalog_isrefused(copy):
+    edited(
         copy, "<VehicleCatalog>", '<ControllerCatalog><Directory path="Catalogs"/></ControllerCatalog><VehicleCatalog>'
     )
-    _refused(copy, "<ControllerCatalog>", "not supported")
+    refused(copy, "<ControllerCatalog>", "not supported")

@@ -22,6 +22,7 @@ from vrusim.paper.cases import scenario_dir
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.schema import Scenario
 from vrusim.scenario.settings import with_settings
+from xosc_helpers import edited, refused
 
 CATALOGUE = {
     "2023": ["CPNA", "CPFA", "CPLA", "CBLA", "CPTAfs", "CMRs", "CPRA"],
@@ -160,30 +161,13 @@ def _exported(tmp_path: Path) -> Path:
     return tmp_path / "case.xosc"
 
 
-def _edited(path: Path, old: str, new: str, count: int = 1) -> Path:
-    text = path.read_text()
-    assert old in text
-    path.write_text(text.replace(old, new, count))
-    return path
-
-
-def _refused(path: Path, *words: str) -> str:
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    for word in (str(path.name), *words):
-        assert word in message, (word, message)
-    return message
-
-
 def test_an_unsupported_action_is_refused_with_its_line(tmp_path):
-    path = _edited(
+    path = edited(
         _exported(tmp_path),
         "<TeleportAction>",
         '<ActivateControllerAction longitudinal="true"/></PrivateAction><PrivateAction><TeleportAction>',
     )
-    message = _refused(path, "<ActivateControllerAction>", "not supported")
+    message = refused(path, path.name, "<ActivateControllerAction>", "not supported")
     line = next(n for n, text in enumerate(path.read_text().splitlines(), 1) if "ActivateControllerAction" in text)
     assert f"line {line}" in message
 
@@ -191,12 +175,12 @@ def test_an_unsupported_action_is_refused_with_its_line(tmp_path):
 def test_a_missing_logic_file_is_refused(tmp_path):
     path = _exported(tmp_path)
     (tmp_path / "case.xodr").unlink()
-    _refused(path, "<LogicFile>", "case.xodr", "not a file")
+    refused(path, path.name, "<LogicFile>", "case.xodr", "not a file")
 
 
 def test_no_logic_file_element_is_refused(tmp_path):
-    path = _edited(_exported(tmp_path), '<LogicFile filepath="case.xodr"/>', "")
-    _refused(path, "<RoadNetwork>", "<LogicFile>")
+    path = edited(_exported(tmp_path), '<LogicFile filepath="case.xodr"/>', "")
+    refused(path, path.name, "<RoadNetwork>", "<LogicFile>")
 
 
 def test_a_reference_to_an_unknown_catalog_is_refused(tmp_path):
@@ -205,12 +189,12 @@ def test_a_reference_to_an_unknown_catalog_is_refused(tmp_path):
     start = text.index('<ScenarioObject name="vru0">') + len('<ScenarioObject name="vru0">')
     end = text.index("</ScenarioObject>", start)
     path.write_text(text[:start] + '<CatalogReference catalogName="People" entryName="adult"/>' + text[end:])
-    _refused(path, "<CatalogReference>", "line 36", "'People'", "no such catalog")
+    refused(path, path.name, "<CatalogReference>", "line 36", "'People'", "no such catalog")
 
 
 def test_an_undeclared_parameter_is_refused(tmp_path):
-    path = _edited(_exported(tmp_path), 'value="$SimDuration_s"', 'value="$Nowhere_s"')
-    _refused(path, "Nowhere_s", "not declared")
+    path = edited(_exported(tmp_path), 'value="$SimDuration_s"', 'value="$Nowhere_s"')
+    refused(path, path.name, "Nowhere_s", "not declared")
 
 
 def test_an_assign_route_action_is_refused(tmp_path):
@@ -219,7 +203,7 @@ def test_an_assign_route_action_is_refused(tmp_path):
     start = text.index("<FollowTrajectoryAction>")
     end = text.index("</FollowTrajectoryAction>") + len("</FollowTrajectoryAction>")
     path.write_text(text[:start] + "<AssignRouteAction/>" + text[end:])
-    _refused(path, "<AssignRouteAction>", "FollowTrajectoryAction")
+    refused(path, path.name, "<AssignRouteAction>", "FollowTrajectoryAction")
 
 
 def test_a_night_time_of_day_sets_night_lighting(tmp_path):
@@ -227,9 +211,9 @@ def test_a_night_time_of_day_sets_night_lighting(tmp_path):
         '<GlobalAction><EnvironmentAction><Environment name="night"><TimeOfDay animation="false" '
         'dateTime="2024-06-01T23:30:00"/></Environment></EnvironmentAction></GlobalAction>'
     )
-    path = _edited(_exported(tmp_path), "<Actions>", "<Actions>" + environment)
+    path = edited(_exported(tmp_path), "<Actions>", "<Actions>" + environment)
     assert read_xosc(path).sensor.lighting == "night"
-    _edited(path, "T23:30:00", "T12:00:00")
+    edited(path, "T23:30:00", "T12:00:00")
     assert read_xosc(path).sensor.lighting == "day"
 
 
@@ -238,6 +222,6 @@ def test_weather_is_refused_not_skipped(tmp_path):
         '<GlobalAction><EnvironmentAction><Environment name="e"><TimeOfDay animation="false" '
         'dateTime="2024-06-01T12:00:00"/><Weather/></Environment></EnvironmentAction></GlobalAction>'
     )
-    path = _edited(_exported(tmp_path), "<Actions>", "<Actions>" + environment)
+    path = edited(_exported(tmp_path), "<Actions>", "<Actions>" + environment)
     with pytest.raises(UserInputError, match=re.escape("<Weather> is not supported")):
         read_xosc(path)

@@ -1,0 +1,26 @@
+"""Shared helpers of the OpenSCENARIO import tests: edit a file in place, and import one that must be refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from cli_helpers import invoke
+
+
+def edited(path: Path, old: str, new: str, count: int = 1) -> Path:
+    """`path` with `old` (which must occur) replaced by `new`, `count` times."""
+    text = path.read_text()
+    assert old in text, old
+    path.write_text(text.replace(old, new, count))
+    return path
+
+
+def refused(path: Path, *words: str) -> str:
+    """`vrusim import path`: exit 2, no traceback, every word in the one-line message (returned)."""
+    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output
+    message = " ".join(result.output.split())
+    for word in words:
+        assert word in message, (word, message)
+    return message
