@@ -207,14 +207,21 @@ def test_an_assign_route_action_is_refused(tmp_path):
 
 
 def test_a_night_time_of_day_sets_night_lighting(tmp_path):
-    environment = (
-        '<GlobalAction><EnvironmentAction><Environment name="night"><TimeOfDay animation="false" '
-        'dateTime="2024-06-01T23:30:00"/></Environment></EnvironmentAction></GlobalAction>'
-    )
-    path = edited(_exported(tmp_path), "<Actions>", "<Actions>" + environment)
-    assert read_xosc(path).sensor.lighting == "night"
-    edited(path, "T23:30:00", "T12:00:00")
+    """The export writes the lighting as a time of day (12:00 day, 23:00 night); the import reads it back."""
+    path = _exported(tmp_path)
+    assert 'dateTime="2026-01-15T12:00:00"' in path.read_text()
     assert read_xosc(path).sensor.lighting == "day"
+    edited(path, "T12:00:00", "T23:30:00")
+    assert read_xosc(path).sensor.lighting == "night"
+    edited(path, "T23:30:00", "T05:59:00")
+    assert read_xosc(path).sensor.lighting == "night"
+
+
+def test_night_tests_round_trip_their_lighting(tmp_path):
+    test = select(codes=["CPNA"], night=True, protocol="2026")
+    night = next(t for t in test if t.lighting == "night")
+    scenario = build_test(night).scenario
+    assert _round_trip(scenario, tmp_path).sensor.lighting == "night"
 
 
 def test_weather_is_refused_not_skipped(tmp_path):

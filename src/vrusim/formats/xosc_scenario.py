@@ -67,6 +67,16 @@ def _ahead(pose: WorldPose, distance_m: float) -> dict[str, float]:
     }
 
 
+def _number_property(source: str, entity: EntityDef, name: str, text: str) -> float:
+    """A numeric `<Property>` of an entity (its value a number; finiteness is checked by the scenario model)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise UserInputError(
+            f"{source}: entity {entity.name!r}: property {name}: expected a number, got {text[:40]!r}"
+        ) from None
+
+
 class ScenarioBuilder:
     """Turns entities + storyboard into a scenario mapping; errors name the file and the element's line."""
 
@@ -256,7 +266,9 @@ class ScenarioBuilder:
             "type": kind.value,
             "start": {"x_m": start["x_m"], "y_m": start["y_m"]},
             "initial_speed_mps": motion.initial_speed_mps or 0.0,
-            "radius_m": float(radius) if radius is not None else max(entity.length_m, entity.width_m) / 2,
+            "radius_m": _number_property(self.doc.source, entity, "vrusim:radius_m", radius)
+            if radius is not None
+            else max(entity.length_m, entity.width_m) / 2,
         }
         fields |= self.vru_speeds(entity, motion, fields["initial_speed_mps"])
         trajectory = motion.trajectory

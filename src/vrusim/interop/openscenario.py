@@ -226,6 +226,17 @@ def road_half_length_m(scenario: Scenario) -> float:
     return float(max(scenario.road.length_m / 2, math.ceil(extent), scenario.road.lane_width_m + 1.0))
 
 
+LIGHT_HOURS = {"day": 12, "night": 23}
+"""Local hour of the exported `<TimeOfDay>` per `sensor.lighting` (the importer reads 06:00–20:00 as day)."""
+
+
+def _light(scenario: Scenario) -> xosc.EnvironmentAction:
+    """The lighting as an EnvironmentAction with a time of day (no weather, no road condition)."""
+    hour = LIGHT_HOURS[scenario.sensor.lighting]
+    time_of_day = xosc.TimeOfDay(False, 2026, 1, 15, hour, 0, 0)
+    return xosc.EnvironmentAction(xosc.Environment("vrusim_lighting", timeofday=time_of_day))
+
+
 def openscenario_document(scenario: Scenario, road_file: str) -> xosc.Scenario:
     """The OpenSCENARIO document of a scenario; `road_file` is the LogicFile path (relative to the .xosc)."""
     params, init, notes = _Parameters(), xosc.Init(), xosc.Properties()
@@ -244,6 +255,7 @@ def openscenario_document(scenario: Scenario, road_file: str) -> xosc.Scenario:
         name = f"obstacle{index}"
         entities.add_scenario_object(name, obstacle_vehicle(box, name))
         init.add_init_action(name, xosc.TeleportAction(_world(*obstacle_reference_pose(box))))
+    init.add_global_action(_light(scenario))
     story = xosc.Story("vrusim_story")
     story.add_act(act)
     storyboard = xosc.StoryBoard(init, _stop_trigger(scenario, params))
