@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from vrusim.errors import UserInputError
-from vrusim.io.paths import os_reason
+from vrusim.io.paths import check_name, os_reason, shown
 from vrusim.scenario.schema import Scenario
 
 if TYPE_CHECKING:
@@ -113,17 +113,13 @@ def sweep_spec_path(source: str | Path, argument: str = "SPEC") -> Path:
 
 def is_scenario_file(source: str) -> bool:
     """SOURCE names a file (a YAML suffix, or anything that exists); a folder is a user error."""
-    path = Path(source)
+    path = check_name(source, "SOURCE")  # a null byte, a name too long for the OS
     try:
-        if "\0" in source:  # Path.exists() would just say False
-            raise ValueError("embedded null byte")
         if not (path.suffix.lower() in SCENARIO_FILE_SUFFIXES or path.exists()):
             return False
         folder = path.is_dir()
-    except (OSError, ValueError) as error:  # a name too long for the OS, a null byte, ...
-        shown = source if len(source) <= 80 else source[:77] + "..."
-        reason = os_reason(error)
-        raise UserInputError(f"SOURCE: cannot use {shown!r} as a file name ({reason})") from None
+    except OSError as error:  # e.g. a folder on the way that cannot be read
+        raise UserInputError(f"SOURCE: cannot use {shown(source)} as a file name ({os_reason(error)})") from None
     if folder:
         raise UserInputError(f"SOURCE: {source} is a folder, expected a scenario YAML file or a catalogue id")
     return True
