@@ -55,6 +55,7 @@ def speed(doc: XoscDocument, action: Element) -> tuple[float, Ramp]:
 
 def _polyline(doc: XoscDocument, trajectory: Element, network: Network) -> tuple[WorldPose, ...]:
     doc.children(trajectory, {"ParameterDeclarations", "Shape"})
+    doc = doc.scoped(trajectory.first("ParameterDeclarations"))
     if doc.choice(trajectory, "closed", ("false", "true", "0", "1")) in ("true", "1"):
         raise doc.fail(trajectory, "a closed trajectory is not supported")
     polyline = doc.single(doc.child(trajectory, "Shape"), {"Polyline"})

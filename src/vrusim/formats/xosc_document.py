@@ -70,6 +70,19 @@ class XoscDocument:
             names = ", ".join(shown(n) for n in sorted(self.overrides))
             raise UserInputError(f"{self.source}: parameter(s) {names} given a value but not declared in the file")
 
+    def scoped(self, declarations: Element | None) -> XoscDocument:
+        """The scope inside an element with its own `<ParameterDeclarations>` (a Story, a Maneuver, a Trajectory,
+        a Route): ASAM OpenSCENARIO 1.3 section 9.1 makes a parameter's scope the subtree of the element that
+        declares it, so the inner declarations add to the enclosing parameters and hide any of the same name.
+        Without declarations (or with none inside), `self`."""
+        if declarations is None or not declarations.children:
+            return self
+        inner = XoscDocument(self.source)
+        inner.parameters, inner.values = dict(self.parameters), dict(self.values)
+        inner.variables, inner.catalogs = self.variables, self.catalogs
+        inner.declare(declarations)
+        return inner
+
     def declare_variables(self, declarations: Element | None) -> None:
         """Read `<VariableDeclarations>` (OpenSCENARIO 1.2): each value typed like a parameter's (its `value` may
         refer to parameters). Variables are not `$name` references; conditions and actions on them are refused."""

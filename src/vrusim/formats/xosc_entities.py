@@ -67,9 +67,7 @@ def _entity(doc: XoscDocument, scenario_object: Element) -> EntityDef:
         entry = catalog_entry(doc, element, ENTITY_LOCATIONS, set(_OBJECT_KINDS))
         doc, element = entry.doc, entry.element
     doc.children(element, _ENTITY_CHILDREN[element.tag])
-    declarations = element.first("ParameterDeclarations")
-    if declarations is not None and declarations.children:
-        raise doc.unsupported(declarations, element.tag)
+    doc = doc.scoped(element.first("ParameterDeclarations"))
     length, width, centre_x = _box(doc, element)
     extra = _vehicle_fields(doc, element) if element.tag == "Vehicle" else {}
     return EntityDef(

@@ -11,6 +11,7 @@ ignored and listed in `ImportNotes`; weather, road conditions and controller ass
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from datetime import datetime
 
 from vrusim.formats.xml_file import Element, shown
@@ -137,8 +138,16 @@ class _StoryReader:
                 finally:
                     self.doc = doc
             elif maneuver.tag == "Maneuver":
-                _no_parameters(doc, maneuver)
-                self.maneuver(maneuver, actor)
+                self.in_scope(maneuver, lambda m=maneuver: self.maneuver(m, actor))
+
+    def in_scope(self, element: Element, read: Callable[[], object]) -> None:
+        """Call `read` with the parameters `element` declares in scope (`XoscDocument.scoped`)."""
+        outer = self.doc
+        self.doc = outer.scoped(element.first("ParameterDeclarations"))
+        try:
+            read()
+        finally:
+            self.doc = outer
 
     def maneuver(self, maneuver: Element, actor: str) -> None:
         """The events of `<Maneuver>` `maneuver` (inline, or a catalog entry read in its own scope)."""
@@ -165,17 +174,9 @@ class _StoryReader:
         self.init(doc.child(element, "Init"))
         for story in element.all("Story"):
             doc.children(story, {"ParameterDeclarations", "Act"})
-            _no_parameters(doc, story)
-            for act in story.all("Act"):
-                self.act(act)
+            self.in_scope(story, lambda s=story: [self.act(act) for act in s.all("Act")])
         self.story.stop = read_trigger(doc, doc.child(element, "StopTrigger"), single=False, network=self.network)
         return self.story
-
-
-def _no_parameters(doc: XoscDocument, element: Element) -> None:
-    declarations = element.first("ParameterDeclarations")
-    if declarations is not None and declarations.children:
-        raise doc.fail(declarations, "is not supported here (declare parameters at the top of the file)")
 
 
 def read_storyboard(
