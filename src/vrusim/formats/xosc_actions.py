@@ -2,10 +2,10 @@
 with a polyline.
 
 A speed action is a step (at once), or linear, cubic or sinusoidal at a rate (m/s^2), over a time (s) or over a
-distance (m) (shapes: `xosc_speed_shapes`); relative targets are refused. A trajectory is a `<Polyline>` of positions, inline or a
-catalog entry (`xosc_catalogs`, read in the entry's parameter scope), not closed, with no timing
-(`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, ...) is refused, naming the element
-and its line.
+distance (m) (shapes: `xosc_speed_shapes`); relative targets are refused. A trajectory is a `<Polyline>` of
+positions, inline or a catalog entry (`xosc_catalogs`, read in the entry's parameter scope), not closed, with no
+timing (`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, ...) is refused, naming the
+element and its line.
 """
 
 from __future__ import annotations
