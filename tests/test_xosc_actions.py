@@ -189,9 +189,9 @@ NIGHT_START = (
     '          <ConditionGroup><Condition name="c" delay="0.0"'
 )
 REFUSALS = {
-    "cubic": ("vru_linear_time.xosc", WALK, WALK.replace('"linear"', '"cubic"'), "cubic", "<SpeedActionDynamics>"),
+    "cubic": ("ego_linear_time.xosc", WALK, WALK.replace('"linear"', '"cubic"'), "cubic", "<SpeedActionDynamics>"),
     "sinusoidal": (
-        "vru_linear_time.xosc",
+        "ego_linear_time.xosc",
         WALK,
         WALK.replace('"linear"', '"sinusoidal"'),
         "sinusoidal",

@@ -34,6 +34,7 @@ from vrusim.sim.state import EgoState, initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import make_channel
 from vrusim.sim.v2x.messages import Channel, rsu_broadcast
 from vrusim.sim.vru import motion as _point_mass_step  # noqa: F401  (attaches the built-in model's step)
+from vrusim.sim.vru import shaped_motion as _shaped_step  # noqa: F401  (attaches the cubic and sinusoidal steps)
 from vrusim.sim.vru.registry import vru_motion
 
 

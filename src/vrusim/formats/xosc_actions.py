@@ -1,11 +1,11 @@
 """Read the private actions vrusim imports: TeleportAction, SpeedAction (absolute target) and FollowTrajectoryAction
 with a polyline.
 
-A speed action is a step (at once) or linear at a rate (m/s^2), over a time (s) or over a distance (m); cubic and
-sinusoidal dynamics and relative targets are refused. A trajectory is a `<Polyline>` of positions, inline or a
-catalog entry (`xosc_catalogs`, read in the entry's parameter scope), not closed, with no timing
-(`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, ...) is refused, naming the element
-and its line.
+A speed action is a step (at once), or linear, cubic or sinusoidal at a rate (m/s^2), over a time (s) or over a
+distance (m) (shapes: `xosc_speed_shapes`); relative targets are refused. A trajectory is a `<Polyline>` of
+positions, inline or a catalog entry (`xosc_catalogs`, read in the entry's parameter scope), not closed, with no
+timing (`<TimeReference><None/>`). Every other action (AssignRouteAction, lane changes, ...) is refused, naming the
+element and its line.
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ def teleport(doc: XoscDocument, action: Element, network: Network) -> WorldPose:
 def speed(doc: XoscDocument, action: Element) -> tuple[float, Ramp]:
     """(target speed m/s, dynamics) of a `<LongitudinalAction>` holding a SpeedAction with an absolute target.
 
-    Shapes step and linear (dimension rate m/s^2, time s or distance m) are read; cubic and sinusoidal are
-    refused: vrusim changes speed at a constant rate.
+    Shapes step, linear, cubic and sinusoidal (dimension rate m/s^2, time s or distance m) are read; which of
+    them an entity may use is decided when the scenario is built (`xosc_speed_shapes`).
     """
     speed_action = doc.single(action, {"SpeedAction"})
     doc.children(speed_action, {"SpeedActionDynamics", "SpeedActionTarget"})
@@ -42,15 +42,13 @@ def speed(doc: XoscDocument, action: Element) -> tuple[float, Ramp]:
     doc.children(target, set())
     value = doc.number(target, "value")
     shape = doc.choice(dynamics, "dynamicsShape", ("step", "linear", "cubic", "sinusoidal"))
-    if shape in ("cubic", "sinusoidal"):
-        raise doc.fail(dynamics, f"dynamicsShape {shape} is not supported: vrusim changes speed at a constant rate")
     if shape == "step":
         return value, Ramp("step", "rate", 0.0, dynamics.line)
     dimension = doc.choice(dynamics, "dynamicsDimension", ("rate", "time", "distance"))
     amount = abs(doc.number(dynamics, "value"))
     if dimension == "rate" and amount == 0.0:
-        raise doc.fail(dynamics, "a linear speed change needs a rate > 0")
-    return value, Ramp("linear", dimension, amount, dynamics.line)
+        raise doc.fail(dynamics, f"a {shape} speed change needs a rate > 0")
+    return value, Ramp(shape, dimension, amount, dynamics.line)
 
 
 def _polyline(doc: XoscDocument, trajectory: Element, network: Network) -> tuple[WorldPose, ...]:

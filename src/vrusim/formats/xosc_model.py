@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from vrusim.sim.vru.shaped import PEAK_TO_MEAN_RATE
+
 OVERRUN_M = 10.0
 """Straight continuation past the end of the ego route when the run stops there, m (written by
 `vrusim.interop.osc_motion`, taken off again when a route is read back)."""
@@ -104,8 +106,9 @@ STEP_RATE_MPS2 = 1000.0
 
 @dataclass(frozen=True)
 class Ramp:
-    """How a `<SpeedActionDynamics>` reaches its target: shape "step", or "linear" over `value` of `dimension`
-    ("rate": m/s^2, "time": s, "distance": m; a linear ramp over a distance is at constant acceleration)."""
+    """How a `<SpeedActionDynamics>` reaches its target: shape "step", or "linear", "cubic" or "sinusoidal" over
+    `value` of `dimension` ("rate": m/s^2, "time": s, "distance": m; a linear ramp over a distance is at constant
+    acceleration)."""
 
     shape: str
     dimension: str = "time"
@@ -113,11 +116,12 @@ class Ramp:
     line: int = 0
 
     def rate_mps2(self, from_mps: float, to_mps: float) -> float | None:
-        """The constant rate from `from_mps` to `to_mps` (m/s^2); None for a step or a zero-length ramp."""
+        """The constant rate from `from_mps` to `to_mps` (m/s^2; of a cubic or sinusoidal shape its mean rate
+        |to - from| / T); None for a step or a zero-length ramp."""
         if self.shape == "step" or (self.dimension != "rate" and self.value == 0.0):
             return None
-        if self.dimension == "rate":
-            return self.value
+        if self.dimension == "rate":  # of a cubic or sinusoidal shape: its peak rate (`xosc_speed_shapes`)
+            return self.value / PEAK_TO_MEAN_RATE.get(self.shape, 1.0)
         if self.dimension == "time":
             return abs(to_mps - from_mps) / self.value
         return abs(to_mps * to_mps - from_mps * from_mps) / (2.0 * self.value)

@@ -28,6 +28,7 @@ from vrusim.formats.xosc_model import (
     WorldPose,
 )
 from vrusim.formats.xosc_route_fit import fit_route
+from vrusim.formats.xosc_speed_shapes import refuse_shaped_ego, vru_speed_shape
 from vrusim.formats.xosc_triggers import TriggerMapper
 from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Ego
@@ -142,6 +143,7 @@ class ScenarioBuilder:
         if ego.kind != "vehicle":
             raise self.error(ego.line, f"the ego {ego.name!r} must be a <Vehicle>")
         pose = self.pose(ego)
+        refuse_shaped_ego(motion.speed_changes, self.error)
         initial = motion.initial_speed_mps or 0.0
         reverse = initial < 0 or any(c.target_mps < 0 for c in motion.speed_changes)
         fields: dict[str, Any] = {
@@ -319,15 +321,19 @@ class ScenarioBuilder:
             self.triggers.ego = Ego.model_validate(ego)
         except ValidationError as error:
             raise UserInputError(describe_validation_error(error, f"{self.doc.source}: ego")) from None
-        vrus, obstacles = [], []
+        vrus, obstacles, vru_changes = [], [], {}
         for entity in self.entities:
             if entity is self.ego:
                 continue
             kind = vru_type(entity)
             if kind is not None:
                 vrus.append(self.vru_fields(entity, kind))
+                vru_changes[entity.name] = self.story.motions[entity.name].speed_changes
             else:
                 obstacles.append(self.obstacle_fields(entity))
+        shape = vru_speed_shape(vru_changes, self.error)
+        if shape is not None:  # the VRU motion model of cubic or sinusoidal speed changes
+            vrus = [vru | {"motion": shape} for vru in vrus]
         data: dict[str, Any] = {
             "ego": ego,
             "vrus": vrus,

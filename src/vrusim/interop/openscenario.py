@@ -35,6 +35,7 @@ from vrusim.interop.osc_motion import (
 )
 from vrusim.io.atomic import write_together
 from vrusim.scenario.schema import Scenario, Vru
+from vrusim.sim.vru.shaped import PEAK_TO_MEAN_RATE
 from vrusim.version import __version__
 
 EGO = "ego"
@@ -77,12 +78,13 @@ def _travelled(name: str, distance_m: float | str) -> xosc.EntityTrigger:
     return xosc.EntityTrigger(name, 0.0, xosc.ConditionEdge.none, xosc.TraveledDistanceCondition(distance_m), EGO)
 
 
-def _speed(speed_mps: float | str, rate_mps2: float | str | None) -> xosc.AbsoluteSpeedAction:
-    """Reach a speed at a constant rate (m/s^2), or at once (`rate_mps2` None)."""
+def _speed(speed_mps: float | str, rate_mps2: float | str | None, shape: str = "linear") -> xosc.AbsoluteSpeedAction:
+    """Reach a speed at a constant rate (m/s^2), or at once (`rate_mps2` None); a cubic or sinusoidal `shape` at
+    that peak rate."""
     if rate_mps2 is None:
         dynamics = xosc.TransitionDynamics(xosc.DynamicsShapes.step, xosc.DynamicsDimension.time, 0.0)
     else:
-        dynamics = xosc.TransitionDynamics(xosc.DynamicsShapes.linear, xosc.DynamicsDimension.rate, rate_mps2)
+        dynamics = xosc.TransitionDynamics(getattr(xosc.DynamicsShapes, shape), xosc.DynamicsDimension.rate, rate_mps2)
     return xosc.AbsoluteSpeedAction(speed_mps, dynamics)
 
 
@@ -113,6 +115,15 @@ class _Parameters:
     def ref(self, name: str, value: float) -> str:
         self.declarations.add_parameter(xosc.Parameter(name, xosc.ParameterType.double, repr(float(value))))
         return f"${name}"
+
+
+def _vru_rate(vru: Vru, name: str, mean_mps2: float, params: _Parameters) -> tuple[str, str]:
+    """(`$parameter`, dynamics shape) of a VRU speed change at mean rate `mean_mps2`: as written for the motion
+    models `cubic` and `sinusoidal`, their peak rate (`name` with "Peak"; docs/openscenario_import.md), else
+    linear at that rate."""
+    if vru.motion not in PEAK_TO_MEAN_RATE:
+        return params.ref(f"{name}_mps2", mean_mps2), "linear"
+    return params.ref(f"{name}Peak_mps2", mean_mps2 * PEAK_TO_MEAN_RATE[vru.motion]), vru.motion
 
 
 def _ego_group(scenario: Scenario, params: _Parameters, init: xosc.Init) -> xosc.ManeuverGroup:
@@ -177,17 +188,17 @@ def _vru_group(scenario: Scenario, index: int, params: _Parameters, init: xosc.I
     if start is not None:
         condition, note = start
         top = params.ref(f"{prefix}TopSpeed_mps", vru.speed_mps)
-        accel = params.ref(f"{prefix}Accel_mps2", vru.accel_mps2)
-        events.append(_event(f"{name}_start", condition, [_speed(top, accel)]))
+        accel, shape = _vru_rate(vru, f"{prefix}Accel", vru.accel_mps2, params)
+        events.append(_event(f"{name}_start", condition, [_speed(top, accel, shape)]))
         notes.add_property(f"{name}_trigger", note)
         if vru.brake is not None:
             delay = params.ref(f"{prefix}BrakeDelay_s", vru.brake.after_trigger_s)
-            decel = params.ref(f"{prefix}BrakeDecel_mps2", vru.brake.decel_mps2)
+            decel, shape = _vru_rate(vru, f"{prefix}BrakeDecel", vru.brake.decel_mps2, params)
             started = xosc.StoryboardElementStateCondition(
                 xosc.StoryboardElementType.event, f"{name}_start", xosc.StoryboardElementState.startTransition
             )
             trigger = xosc.ValueTrigger(f"{name}_brake_trigger", delay, xosc.ConditionEdge.none, started)
-            events.append(_event(f"{name}_brake", trigger, [_speed(0.0, decel)]))
+            events.append(_event(f"{name}_brake", trigger, [_speed(0.0, decel, shape)]))
     return _group(name, events) if events else None
 
 

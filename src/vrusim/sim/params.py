@@ -26,6 +26,7 @@ from vrusim.sim.driver import DriverArrays, pack_driver
 from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
 from vrusim.sim.sensing.sensor_params import SensorParams, pack_sensor
 from vrusim.sim.v2x.channel_params import ChannelParams, pack_channel
+from vrusim.sim.vru import shaped as _shaped  # noqa: F401  (registers the shaped models cubic and sinusoidal)
 from vrusim.sim.vru.point_mass import POINT_MASS
 from vrusim.sim.vru.registry import vru_motion, vru_motion_entries
 

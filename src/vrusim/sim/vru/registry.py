@@ -76,7 +76,8 @@ def vru_motion(name: str) -> VruMotionEntry:
     """The registered entry of VRU motion model `name`."""
     entry = _ENTRIES.get(name)
     if entry is None:
-        raise ValueError(f"VRU motion model {name!r} is not registered (known: {', '.join(sorted(_ENTRIES))})")
+        known = sorted(_ENTRIES, key=lambda known_name: (known_name != POINT_MASS, known_name))  # the built-in first
+        raise ValueError(f"VRU motion model {name!r} is not registered (known: {', '.join(known)})")
     return entry
 
 
