@@ -9,6 +9,7 @@ y = -1.75 (4.39 m on)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 import shutil
 import tempfile
@@ -181,7 +182,9 @@ def test_a_solved_profile_covers_the_distance_in_the_time(v0, distance, time, fi
         return
     ramp = abs(profile.top_mps - v0) / profile.rate_mps2 if profile.rate_mps2 else 0.0
     assert profile.delay_s >= 0.0 and profile.delay_s + ramp <= time * (1 + 1e-9) + 1e-9
-    walked = v0 * profile.delay_s + 0.5 * (v0 + profile.top_mps) * ramp + profile.top_mps * (time - profile.delay_s - ramp)
+    walked = (
+        v0 * profile.delay_s + 0.5 * (v0 + profile.top_mps) * ramp + profile.top_mps * (time - profile.delay_s - ramp)
+    )
     assert math.isclose(walked, distance, rel_tol=1e-9, abs_tol=1e-6)
     if final is not None:
         assert math.isclose(profile.top_mps, final, abs_tol=1e-9)
@@ -227,6 +230,22 @@ _SPEED_ACTION = """        <PrivateAction><LongitudinalAction><SpeedAction><!-- 
       </Action>
       <Action name="sync_action2">
 """
+_ACTION = '      <Action name="sync_action">\n'
+_WITH_SPEED_CHANGE = (_ACTION, '      <Action name="walk_action">\n' + _SPEED_ACTION)
+_SECOND_SYNC = (
+    _ACTION,
+    _ACTION
+    + '        <PrivateAction><SynchronizeAction masterEntityRef="ego"><TargetPositionMaster>'
+    + '<WorldPosition x="1.15" y="-1.75"/></TargetPositionMaster><TargetPosition><WorldPosition x="0" y="-1.75"/>'
+    + "</TargetPosition></SynchronizeAction></PrivateAction>\n      </Action>\n"
+    + '      <Action name="sync_action2">\n',
+)
+_PLACE_EVENT = (
+    'coordinateSystem="entity"/></LongitudinalAction></PrivateAction>\n      </Action>\n      <StartTrigger>\n'
+    + '          <ConditionGroup><Condition name="c" delay="0.0" conditionEdge="none"><ByValueCondition>'
+    + '<SimulationTimeCondition value="{}"'
+)
+_LATER_PLACEMENT = (_PLACE_EVENT.format("0.0"), _PLACE_EVENT.format("1.0"))
 
 REFUSALS = [
     ("sync_no_final_speed.xosc", [('masterEntityRef="ego"', 'masterEntityRef="vru0"')], _SYNC_LINE,
@@ -256,14 +275,10 @@ REFUSALS = [
     ("sync_relative_steady_time.xosc", [('speedTargetValueType="factor" value="$Factor"',
                                          'speedTargetValueType="delta" value="-11"')],
      "<TargetTimeSteadyState", ["<FinalSpeed>", "below 0"]),
-    ("sync_no_final_speed.xosc", [('      <Action name="sync_action">\n', '      <Action name="walk_action">\n' + _SPEED_ACTION)],
-     "<!-- extra -->", ["<LongitudinalAction>", "no other speed change"]),
-    ("sync_no_final_speed.xosc", [('      <Action name="sync_action">\n', '      <Action name="sync_action">\n'
-                                   '        <PrivateAction><SynchronizeAction masterEntityRef="ego"><TargetPositionMaster>'
-                                   '<WorldPosition x="1.15" y="-1.75"/></TargetPositionMaster><TargetPosition>'
-                                   '<WorldPosition x="0" y="-1.75"/></TargetPosition></SynchronizeAction></PrivateAction>'
-                                   '\n      </Action>\n      <Action name="sync_action2">\n')],
-     '<PrivateAction><SynchronizeAction masterEntityRef="ego" targetToleranceMaster', ["already synchronised"]),
+    ("sync_no_final_speed.xosc", [_WITH_SPEED_CHANGE], "<!-- extra -->",
+     ["<LongitudinalAction>", "no other speed change"]),
+    ("sync_no_final_speed.xosc", [_SECOND_SYNC], '<SynchronizeAction masterEntityRef="ego" targetToleranceMaster',
+     ["already synchronised"]),
     ("sync_no_final_speed.xosc", [('masterEntityRef="ego" targetToleranceMaster="$MasterTolerance"',
                                    'masterEntityRef="ego" targetToleranceMaster="-1"')],
      _SYNC_LINE, ["targetToleranceMaster must be >= 0"]),
@@ -281,13 +296,8 @@ REFUSALS = [
     ("longitudinal_distance.xosc", [('LongitudinalDistanceAction entityRef="ego" timeGap',
                                      'LongitudinalDistanceAction entityRef="nobody" timeGap')],
      'entityRef="nobody"', ["<LongitudinalDistanceAction>", "names no entity"]),
-    ("longitudinal_distance.xosc", [('coordinateSystem="entity"/></LongitudinalAction></PrivateAction>\n      </Action>\n'
-                                     "      <StartTrigger>\n          <ConditionGroup><Condition name=\"c\" delay=\"0.0\" "
-                                     'conditionEdge="none"><ByValueCondition><SimulationTimeCondition value="0.0"',
-                                     'coordinateSystem="entity"/></LongitudinalAction></PrivateAction>\n      </Action>\n'
-                                     "      <StartTrigger>\n          <ConditionGroup><Condition name=\"c\" delay=\"0.0\" "
-                                     'conditionEdge="none"><ByValueCondition><SimulationTimeCondition value="1.0"')],
-     'distance="$Gap"', ["<LongitudinalDistanceAction>", "simulation time 0"]),
+    ("longitudinal_distance.xosc", [_LATER_PLACEMENT], 'distance="$Gap"',
+     ["<LongitudinalDistanceAction>", "simulation time 0"]),
 ]  # fmt: skip
 
 
@@ -303,7 +313,5 @@ def test_a_mutated_sync_file_imports_or_is_a_user_error(data):
     with tempfile.TemporaryDirectory() as folder:
         path = _copy(Path(folder), "sync_arrival_steady_distance.xosc")
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
-        try:
+        with contextlib.suppress(UserInputError):
             read_xosc(path)
-        except UserInputError:
-            pass

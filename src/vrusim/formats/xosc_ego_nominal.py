@@ -48,7 +48,10 @@ class Segment:
 
     def at(self, tau_s: float) -> tuple[float, float]:
         """(station m, speed m/s) `tau_s` into the segment."""
-        return self.s_m + self.v_mps * tau_s + 0.5 * self.accel_mps2 * tau_s * tau_s, self.v_mps + self.accel_mps2 * tau_s
+        return (
+            self.s_m + self.v_mps * tau_s + 0.5 * self.accel_mps2 * tau_s * tau_s,
+            self.v_mps + self.accel_mps2 * tau_s,
+        )
 
 
 class EgoNominal:

@@ -70,6 +70,4 @@ def _placed(
         half = abs(math.cos(turn)) * actor.length_m / 2 + abs(math.sin(turn)) * actor.width_m / 2
         edge = master.centre_x_m + side * master.length_m / 2
         along = edge + side * (gap + half) - actor.centre_x_m * math.cos(turn)
-    return WorldPose(
-        master_pose.x_m + along * ux - lateral * uy, master_pose.y_m + along * uy + lateral * ux, heading
-    )
+    return WorldPose(master_pose.x_m + along * ux - lateral * uy, master_pose.y_m + along * uy + lateral * ux, heading)

@@ -17,6 +17,7 @@ from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_longitudinal import place_entities
 from vrusim.formats.xosc_model import (
     OVERRUN_M,
     STEP_RATE_MPS2,
@@ -28,7 +29,6 @@ from vrusim.formats.xosc_model import (
     StoryDef,
     WorldPose,
 )
-from vrusim.formats.xosc_longitudinal import place_entities
 from vrusim.formats.xosc_route_fit import fit_route
 from vrusim.formats.xosc_sync_vru import check_sync_actors, synchronised_vru
 from vrusim.formats.xosc_triggers import TriggerMapper

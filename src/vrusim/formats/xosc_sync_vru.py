@@ -71,7 +71,9 @@ def synchronised_vru(
     target_m = _target_station(fail, fields, entity, sync)
     way_m, time_s = target_m - v0 * start_s, master_s - start_s
     if way_m <= 0.0:
-        raise fail(sync.target_line, f"<TargetPosition> the VRU has passed it when the action starts (t = {start_s:.3f} s)")
+        raise fail(
+            sync.target_line, f"<TargetPosition> the VRU has passed it when the action starts (t = {start_s:.3f} s)"
+        )
     if time_s <= 0.0:
         raise fail(
             sync.master_line,
