@@ -24,8 +24,10 @@ from cli_helpers import invoke
 from fuzz_inputs import mutated_xml
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
+from vrusim.formats.xosc_ego_nominal import EgoNominal
 from vrusim.formats.xosc_import import read_xosc
 from vrusim.formats.xosc_sync_profile import ProfileError, solve_profile
+from vrusim.scenario.schema import Ego
 from vrusim.sources import apply_planner_and_seed
 
 DATA = Path(__file__).parent / "data" / "xosc" / "synchronize"
@@ -315,3 +317,18 @@ def test_a_mutated_sync_file_imports_or_is_a_user_error(data):
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
         with contextlib.suppress(UserInputError):
             read_xosc(path)
+
+
+def test_the_ego_nominal_motion_follows_its_driver_phases_in_closed_form():
+    """10 m/s; from route station 20 m (t = 2 s) down to 6 m/s at 2 m/s^2 (16 m in 2 s), then 6 m/s."""
+    phases = [
+        {"at_time_s": 0.0, "target_speed_mps": 10.0, "accel_mps2": 2.0},
+        {"ego_route_m": 20.0, "target_speed_mps": 6.0, "accel_mps2": 2.0, "accelerator": False},
+    ]
+    ego = Ego.model_validate({"start": {"x_m": 0, "y_m": 0, "heading_deg": 0}, "cruise_speed_mps": 10.0,
+                              "driver": {"phases": phases}})  # fmt: skip
+    nominal = EgoNominal(ego)
+    t_s, v_mps = nominal.time_at_station(30.0)
+    assert math.isclose(t_s, 2.0 + 5.0 - math.sqrt(15.0)) and math.isclose(v_mps, 10.0 - 2.0 * (t_s - 2.0))
+    assert math.isclose(nominal.time_at_station(40.0)[0], 4.0 + 4.0 / 6.0)
+    assert math.isclose(nominal.station_at_time(5.0), 36.0 + 6.0)
