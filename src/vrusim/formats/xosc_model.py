@@ -87,6 +87,7 @@ class Motion:
     initial_speed_mps: float | None = None
     trajectory: Trajectory | None = None
     speed_changes: list[SpeedChange] = field(default_factory=list)
+    sync: Synchronize | None = None
 
 
 @dataclass
@@ -96,6 +97,7 @@ class StoryDef:
     motions: dict[str, Motion]
     stop: list[Condition] = field(default_factory=list)
     night: bool | None = None
+    placements: list[Placement] = field(default_factory=list)
 
 
 # ----------------------------------------------------------------------------------- actions and conditions (#19)
@@ -151,3 +153,53 @@ class AnyCondition(Condition):
     """ "any": OR-ed `<ConditionGroup>`s of one condition each; holds as soon as one of `options` holds."""
 
     options: tuple[Condition, ...] = ()
+
+
+# ----------------------------------------------------------------------- synchronisation and longitudinal distance
+
+
+@dataclass(frozen=True)
+class FinalSpeed:
+    """A SynchronizeAction's `<FinalSpeed>`: "absolute" (`value` m/s) or relative to the master's speed at its
+    target ("delta": + `value` m/s, "factor": x `value`); a steady state of `steady_m` m or `steady_s` s before
+    the target (None: none)."""
+
+    kind: str
+    value: float
+    steady_m: float | None = None
+    steady_s: float | None = None
+    line: int = 0
+
+
+@dataclass(frozen=True)
+class Synchronize:
+    """A `<SynchronizeAction>` of event `event` started by `condition`: reach `target` (within `tolerance_m`) when
+    entity `master` reaches `master_target` (within `master_tolerance_m`); `*_line`: the lines of the target
+    elements."""
+
+    event: str
+    master: str
+    master_target: WorldPose
+    target: WorldPose
+    master_tolerance_m: float
+    tolerance_m: float
+    final: FinalSpeed | None
+    condition: Condition
+    line: int
+    master_line: int = 0
+    target_line: int = 0
+
+
+@dataclass(frozen=True)
+class Placement:
+    """A `<LongitudinalDistanceAction>` at t = 0: put entity `entity` `distance_m` (or `time_gap_s` x the master's
+    speed) ahead of ("leading") or behind ("trailing") entity `master`, or on the side it stands ("any"), along
+    the master's heading; `freespace`: between bounding boxes."""
+
+    entity: str
+    master: str
+    distance_m: float | None
+    time_gap_s: float | None
+    freespace: bool
+    displacement: str
+    line: int

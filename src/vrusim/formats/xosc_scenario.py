@@ -8,6 +8,7 @@ scenario field is in docs/openscenario_import.md.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from typing import Any
@@ -16,6 +17,7 @@ from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_document import XoscDocument
+from vrusim.formats.xosc_longitudinal import place_entities
 from vrusim.formats.xosc_model import (
     OVERRUN_M,
     STEP_RATE_MPS2,
@@ -29,6 +31,7 @@ from vrusim.formats.xosc_model import (
 )
 from vrusim.formats.xosc_route_fit import fit_route
 from vrusim.formats.xosc_speed_shapes import refuse_shaped_ego, vru_speed_shape
+from vrusim.formats.xosc_sync_vru import check_sync_actors, synchronised_vru
 from vrusim.formats.xosc_triggers import TriggerMapper
 from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Ego
@@ -83,6 +86,7 @@ class ScenarioBuilder:
 
     def __init__(self, doc: XoscDocument, entities: list[EntityDef], story: StoryDef) -> None:
         self.doc, self.entities, self.story = doc, entities, story
+        place_entities(self.error, entities, story)
         ego = choose_ego(entities)
         if ego is None:
             raise self.error(0, "has no ego: name an entity 'ego' or 'VUT', or give a car")
@@ -322,13 +326,18 @@ class ScenarioBuilder:
         except ValidationError as error:
             raise UserInputError(describe_validation_error(error, f"{self.doc.source}: ego")) from None
         vrus, obstacles, vru_changes = [], [], {}
+        check_sync_actors(self.error, self.story.motions, self.triggers.vrus)
         for entity in self.entities:
             if entity is self.ego:
                 continue
             kind = vru_type(entity)
-            if kind is not None:
+            motion = self.story.motions[entity.name]
+            if kind is not None and motion.sync is not None:
+                make = functools.partial(self.vru_fields, entity, kind)
+                vrus.append(synchronised_vru(self.error, self.triggers, entity, motion, make))
+            elif kind is not None:
                 vrus.append(self.vru_fields(entity, kind))
-                vru_changes[entity.name] = self.story.motions[entity.name].speed_changes
+                vru_changes[entity.name] = motion.speed_changes
             else:
                 obstacles.append(self.obstacle_fields(entity))
         shape = vru_speed_shape(vru_changes, self.error)

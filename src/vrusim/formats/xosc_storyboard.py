@@ -22,6 +22,7 @@ from vrusim.formats.xosc_conditions import read_trigger
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory
 from vrusim.formats.xosc_notes import ImportNotes
+from vrusim.formats.xosc_synchronize import SYNC_ACTIONS, read_longitudinal_distance, read_synchronize
 
 DAY_STARTS_H, NIGHT_STARTS_H = 6, 20
 """Hours (local time of day) between which a `<TimeOfDay>` is daylight; outside them it is night."""
@@ -42,7 +43,7 @@ class _StoryReader:
     def private(self, element: Element, name: str, condition: Condition, event: str) -> None:
         """One `<PrivateAction>` of entity `name`, started by `condition` (in event `event`; "" for Init)."""
         doc, motion = self.doc, self.motion(element, name)
-        action = doc.single(element, PRIVATE_ACTIONS | NEUTRAL_ACTIONS)
+        action = doc.single(element, PRIVATE_ACTIONS | NEUTRAL_ACTIONS | SYNC_ACTIONS)
         if action.tag in ("AppearanceAction", "LightStateAction"):
             self.notes.ignore(action, "lights and appearance do not change the motion")
         elif action.tag in NEUTRAL_ACTIONS:
@@ -51,6 +52,12 @@ class _StoryReader:
             if event:
                 raise doc.fail(action, "is only supported in <Init>")
             motion.pose = teleport(doc, action, self.network)
+        elif action.tag == "SynchronizeAction":
+            if motion.sync is not None:
+                raise doc.fail(action, f"entity {shown(name)} is already synchronised (a VRU synchronises once)")
+            motion.sync = read_synchronize(doc, action, self.network, event, condition)
+        elif action.tag == "LongitudinalAction" and action.first("LongitudinalDistanceAction") is not None:
+            self.story.placements.append(read_longitudinal_distance(doc, action, name, condition, event))
         elif action.tag == "LongitudinalAction":
             target, ramp = speed(doc, action)
             if event:
