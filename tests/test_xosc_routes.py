@@ -394,7 +394,8 @@ def test_relative_position_refusals(tmp_path, old, new, marker, words):
         (
             "vru_clothoid_spline.xosc",
             '<ClothoidSplineSegment curvatureStart="0.1" curvatureEnd="0.0" length="10.0"/>',
-            '<ClothoidSplineSegment curvatureStart="0.1" curvatureEnd="0.0" length="10.0"><PositionStart><WorldPosition x="5" y="5"/></PositionStart></ClothoidSplineSegment>',
+            '<ClothoidSplineSegment curvatureStart="0.1" curvatureEnd="0.0" length="10.0">'
+            '<PositionStart><WorldPosition x="5" y="5"/></PositionStart></ClothoidSplineSegment>',
             '<PositionStart><WorldPosition x="5"',
             ("<PositionStart>", "cannot jump"),
         ),
