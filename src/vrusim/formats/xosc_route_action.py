@@ -170,7 +170,12 @@ def assign_route(
     doc: XoscDocument, action: Element, network: Network, placed: Mapping[str, WorldPose] | None
 ) -> SampledShape:
     """The vertices of an `<AssignRouteAction>`: its `<Route>` or a `<CatalogReference>` to a RouteCatalog entry."""
-    holder = doc.single(action, {"Route", "CatalogReference"})
+    doc.children(action, {"Route", "CatalogReference"})
+    if len(action.children) != 1:
+        raise doc.fail(
+            action, "needs one <Route> or one <CatalogReference> to a route (followed as a FollowTrajectoryAction is)"
+        )
+    holder = action.children[0]
     if holder.tag == "CatalogReference":
         entry = catalog_entry(doc, holder, ("RouteCatalog",), {"Route"})
         return route_shape(entry.doc, entry.element, network, placed)
