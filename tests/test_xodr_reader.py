@@ -319,6 +319,40 @@ def test_the_lane_graph_finds_the_exported_left_turn(junction):
         shortest_lanes(network, ("4", -1), ("1", -1))  # lane -1 of arm 4 leaves the junction
 
 
+def _two_roads(contact: str, lane_link: str = "") -> str:
+    """Road a (east from the origin, 10 m) linked at its end to road b at b's `contact` end; b ends (contact
+    "end") or starts (contact "start") where a ends."""
+    lanes = (
+        '<lanes><laneSection s="0"><left><lane id="1"><width sOffset="0" a="3" b="0" c="0" d="0"/></lane></left>'
+        '<center><lane id="0"/></center><right><lane id="-1">{link}<width sOffset="0" a="3" b="0" c="0" d="0"/>'
+        "</lane></right></laneSection></lanes>"
+    )
+    b_start, b_hdg = ("10", "0") if contact == "start" else ("20", repr(math.pi))
+    return (
+        '<OpenDRIVE><header revMajor="1" revMinor="6"/>'
+        '<road id="a" length="10" junction="-1"><link>'
+        f'<successor elementType="road" elementId="b" contactPoint="{contact}"/></link><planView>'
+        '<geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry></planView>'
+        f"{lanes.format(link=lane_link)}</road>"
+        '<road id="b" length="10" junction="-1"><planView>'
+        f'<geometry s="0" x="{b_start}" y="0" hdg="{b_hdg}" length="10"><line/></geometry></planView>'
+        f"{lanes.format(link='')}</road></OpenDRIVE>"
+    )
+
+
+@pytest.mark.parametrize(
+    ("contact", "lane_link", "expected"),
+    [
+        ("start", "", [("b", -1)]),  # same id, same direction
+        ("end", "", [("b", 1)]),  # head to head: the opposite id keeps the driving side
+        ("start", '<link><successor id="1"/></link>', []),  # its own link names a lane driven the other way
+    ],
+)
+def test_road_links_lead_to_the_lane_on_the_same_side(contact, lane_link, expected):
+    network = parse_xodr(_two_roads(contact, lane_link))
+    assert successors(network, ("a", -1)) == expected
+
+
 # ------------------------------------------------------------------------------------ world -> road projection
 
 ROUTES = Path(__file__).resolve().parent / "data" / "xosc" / "routes"

@@ -224,6 +224,25 @@ def test_a_clothoid_spline_ends_at_its_quadrature_end_pose():
     )
 
 
+def test_a_spline_segments_heading_offset_turns_its_start(tmp_path):
+    path = _edited(
+        tmp_path,
+        "vru_clothoid_spline.xosc",
+        '<ClothoidSplineSegment curvatureStart="0.1" curvatureEnd="0.0" length="10.0"/>',
+        '<ClothoidSplineSegment curvatureStart="0.1" curvatureEnd="0.0" length="10.0" hOffset="-0.3"/>',
+    )
+
+    def heading(s: float) -> float:
+        first = 0.01 * min(s, 10.0) ** 2 / 2
+        rest = max(s - 10.0, 0.0)
+        return math.pi / 2 + first + (-0.3 + 0.1 * rest - 0.01 * rest**2 / 2 if s > 10.0 else 0.0)
+
+    x = quad(lambda s: math.cos(heading(s)), 0.0, 20.0, points=[10.0], epsabs=1e-12)[0]
+    y = -6.0 + quad(lambda s: math.sin(heading(s)), 0.0, 20.0, points=[10.0], epsabs=1e-12)[0]
+    end = read_xosc(path).vrus[0].path[-2]
+    assert (end.x_m, end.y_m) == pytest.approx((x, y), abs=1e-9)
+
+
 # --------------------------------------------------------------------------------------------- timing
 
 
@@ -236,6 +255,41 @@ def test_a_timed_vru_stands_until_its_first_time_then_moves_at_one_speed():
     assert _vru_xy(trace, 3.0) == pytest.approx((0.0, -4.5), abs=DISTANCE_TOL_M)
     assert _vru_xy(trace, 4.0) == pytest.approx((0.0, -3.0), abs=DISTANCE_TOL_M)  # the second vertex at its time
     assert _vru_xy(trace, 5.0) == pytest.approx((1.5, -3.0), abs=DISTANCE_TOL_M)
+
+
+def test_a_timed_clothoid_stands_then_reaches_its_end_at_its_stop_time(tmp_path):
+    path = _edited(tmp_path, "vru_clothoid.xosc", 'length="10.0">', 'length="10.0" startTime="2" stopTime="7">')
+    text = path.read_text()
+    head, _, tail = text.rpartition("<TimeReference><None/>")
+    path.write_text(head + '<TimeReference><Timing domainAbsoluteRelative="absolute" scale="1" offset="0"/>' + tail)
+    edited = path.read_text().replace('<AbsoluteTargetSpeed value="1.5"/>', '<AbsoluteTargetSpeed value="0.0"/>')
+    path.write_text(edited)
+    vru = read_xosc(path).vrus[0]
+    assert (vru.trigger.at_time_s, vru.top_speed_mps) == pytest.approx((2.0, 2.0), abs=1e-3)  # along the chords
+    x, y, _ = _fresnel_end(0.0, -6.0, math.pi / 2, 0.02, 10.0)
+    trace = _trace(path)
+    assert _vru_xy(trace, 1.9) == pytest.approx((0.0, -6.0), abs=1e-9)
+    assert _vru_xy(trace, 7.0) == pytest.approx((x, y), abs=DISTANCE_TOL_M)
+
+
+def test_a_timed_spline_from_t_0_starts_at_its_speed(tmp_path):
+    path = _edited(
+        tmp_path,
+        "vru_clothoid_spline.xosc",
+        'curvatureEnd="0.1" length="10.0">',
+        'curvatureEnd="0.1" length="10.0" timeStart="0">',
+    )
+    text = path.read_text().replace(
+        'curvatureEnd="0.0" length="10.0"/>', 'curvatureEnd="0.0" length="10.0" timeStart="4"/>'
+    )
+    text = text.replace("<ClothoidSpline>", '<ClothoidSpline timeEnd="8">')
+    head, _, tail = text.rpartition("<TimeReference><None/>")
+    path.write_text(head + '<TimeReference><Timing domainAbsoluteRelative="relative" scale="1" offset="0"/>' + tail)
+    vru = read_xosc(path).vrus[0]
+    assert (vru.initial_speed_mps, vru.top_speed_mps) == pytest.approx((2.5, 2.5), abs=1e-3)  # 20 m in 8 s
+    uneven = path.read_text().replace('timeStart="4"', 'timeStart="3"')
+    path.write_text(uneven)
+    _refused(path, 'timeStart="0"', "<ClothoidSplineSegment>", "one constant speed")  # the first one off its time
 
 
 def test_an_ego_timed_at_its_cruise_speed_is_accepted():
