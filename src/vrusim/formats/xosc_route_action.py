@@ -58,7 +58,7 @@ def _on_lane(doc: XoscDocument, waypoint: Element, network: Network, placed: Map
     kind = position.children[0] if len(position.children) == 1 else None
     try:
         if kind is not None and kind.tag == "LanePosition":
-            pose = read_position(doc, position, network, placed)  # checks the element
+            read_position(doc, position, network, placed)  # checks the element and the lane
             return _Stop(doc.text(kind, "roadId"), int(doc.text(kind, "laneId")), doc.number(kind, "s"), waypoint)
         if kind is not None and kind.tag == "RoadPosition":
             read_position(doc, position, network, placed)
@@ -126,6 +126,9 @@ def route_shape(
 ) -> SampledShape:
     """The vertices of a `<Route>` element read in `doc`."""
     doc.children(route, {"ParameterDeclarations", "Waypoint"})
+    declarations = route.first("ParameterDeclarations")
+    if declarations is not None and declarations.children:
+        raise doc.fail(declarations, "is not supported in an inline route (declare parameters at the top of the file)")
     if doc.choice(route, "closed", ("false", "true", "0", "1"), "false") in ("true", "1"):
         raise doc.fail(route, "a closed route is not supported")
     waypoints = route.all("Waypoint")
