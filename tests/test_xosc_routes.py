@@ -460,6 +460,14 @@ def test_relative_position_refusals(tmp_path, old, new, marker, words):
             '<ClothoidSplineSegment curvatureStart="0.0"',
             ("<ClothoidSplineSegment>", "no time"),
         ),
+        (
+            "ego_route_junction.xosc",
+            '<Route name="route" closed="false">',
+            '<Route name="route" closed="false"><ParameterDeclarations>'
+            '<ParameterDeclaration name="a" parameterType="double" value="1"/></ParameterDeclarations>',
+            "<Route ",
+            ("<ParameterDeclarations>", "inline route"),
+        ),
     ],
 )
 def test_refusals_name_the_element_and_its_line(tmp_path, name, old, new, marker, words):
