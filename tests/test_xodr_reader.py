@@ -16,7 +16,9 @@ from scipy.special import fresnel
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xodr_geometry import reference_poses
+from vrusim.formats.xodr_lane_graph import junction_cost, shortest_lanes, successors
 from vrusim.formats.xodr_lanes import lane_borders_t, lane_position, road_position
+from vrusim.formats.xodr_projection import lane_at, project, road_coordinates
 from vrusim.formats.xodr_reader import parse_xodr, read_xodr
 from vrusim.formats.xodr_route import reference_points, route_polyline
 from vrusim.geometry.paths import sample_polyline
@@ -305,6 +307,92 @@ def test_a_route_through_the_junction_is_a_polyline_along_the_lane_centres(junct
         route_polyline(network, [("1", -1), ("4", -1)])
     with pytest.raises(UserInputError, match="no road '99'"):
         route_polyline(network, [("1", -1), ("99", -1)])
+
+
+def test_the_lane_graph_finds_the_exported_left_turn(junction):
+    _, network = junction
+    left_turn = next(c for c in network.junctions["100"].connections if c.incoming_road == "1" and
+                     network.roads[c.connecting_road].successor.element_id == "4").connecting_road  # fmt: skip
+    assert shortest_lanes(network, ("1", -1), ("4", -1)) == [("1", -1), (left_turn, -1), ("4", -1)]
+    assert all(network.roads[road].junction != "-1" for road, _ in successors(network, ("1", -1)))
+    with pytest.raises(UserInputError, match="no lane route"):
+        shortest_lanes(network, ("4", -1), ("1", -1))  # lane -1 of arm 4 leaves the junction
+
+
+def _two_roads(contact: str, lane_link: str = "") -> str:
+    """Road a (east from the origin, 10 m) linked at its end to road b at b's `contact` end; b ends (contact
+    "end") or starts (contact "start") where a ends."""
+    lanes = (
+        '<lanes><laneSection s="0"><left><lane id="1"><width sOffset="0" a="3" b="0" c="0" d="0"/></lane></left>'
+        '<center><lane id="0"/></center><right><lane id="-1">{link}<width sOffset="0" a="3" b="0" c="0" d="0"/>'
+        "</lane></right></laneSection></lanes>"
+    )
+    b_start, b_hdg = ("10", "0") if contact == "start" else ("20", repr(math.pi))
+    return (
+        '<OpenDRIVE><header revMajor="1" revMinor="6"/>'
+        '<road id="a" length="10" junction="-1"><link>'
+        f'<successor elementType="road" elementId="b" contactPoint="{contact}"/></link><planView>'
+        '<geometry s="0" x="0" y="0" hdg="0" length="10"><line/></geometry></planView>'
+        f"{lanes.format(link=lane_link)}</road>"
+        '<road id="b" length="10" junction="-1"><planView>'
+        f'<geometry s="0" x="{b_start}" y="0" hdg="{b_hdg}" length="10"><line/></geometry></planView>'
+        f"{lanes.format(link='')}</road></OpenDRIVE>"
+    )
+
+
+@pytest.mark.parametrize(
+    ("contact", "lane_link", "expected"),
+    [
+        ("start", "", [("b", -1)]),  # same id, same direction
+        ("end", "", [("b", 1)]),  # head to head: the opposite id keeps the driving side
+        ("start", '<link><successor id="1"/></link>', []),  # its own link names a lane driven the other way
+    ],
+)
+def test_road_links_lead_to_the_lane_on_the_same_side(contact, lane_link, expected):
+    network = parse_xodr(_two_roads(contact, lane_link))
+    assert successors(network, ("a", -1)) == expected
+
+
+# ------------------------------------------------------------------------------------ world -> road projection
+
+ROUTES = Path(__file__).resolve().parent / "data" / "xosc" / "routes"
+
+
+def test_lane_links_are_read_and_followed():
+    network = read_xodr(ROUTES / "junction.xodr")
+    lane = network.roads["100"].sections[0].right[0]
+    assert (lane.predecessors, lane.successors) == ((-1,), (-1,))
+    assert successors(network, ("1", -1)) == [("100", -1), ("101", -1)]
+    assert successors(network, ("100", -1)) == [("2", -1)]
+    assert successors(network, ("2", -1)) == [] and successors(network, ("2", 1)) == []
+    assert shortest_lanes(network, ("1", -1), ("3", -1), junction_cost) == [("1", -1), ("101", -1), ("3", -1)]
+
+
+@given(s=st.floats(0.0, 10.0), t=st.floats(-2.9, 2.9))
+def test_a_point_projects_back_to_its_road_position_on_a_line(analytic, s, t):
+    road = analytic.roads["line"]
+    x, y, _ = road_position(analytic, "line", s, t)
+    found = road_coordinates(road, float(x[0]), float(y[0]))
+    assert (found.s_m, found.t_m, found.heading_rad) == pytest.approx((s, t, 0.3), abs=1e-9)
+
+
+@given(s=st.floats(0.0, 15.0), t=st.floats(-6.0, 6.0))
+def test_a_point_projects_back_to_its_road_position_on_an_arc(analytic, s, t):
+    """The arc road: radius 20 m about (0, 20); (s, t) is the point at angle s / 20 on the circle of radius 20 - t."""
+    angle = s / 20.0
+    x, y = (20.0 - t) * math.sin(angle), 20.0 - (20.0 - t) * math.cos(angle)
+    found = road_coordinates(analytic.roads["arc"], x, y)
+    assert (found.s_m, found.t_m, found.heading_rad) == pytest.approx((s, t, angle), abs=1e-9)
+    assert found.distance_m == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_lane_a_point_lies_in(analytic):
+    road = analytic.roads["arc"]  # lane offset 0.25; lane 1: 3 m; lane -1: 3.5 m; lane -2 from -3.25 outward
+    assert [lane_at(road, 6.0, t) for t in (3.0, 0.3, 0.2, -3.0, -3.4, -20.0)] == [1, 1, -1, -1, -2, None]
+    network = read_xodr(ROUTES / "junction.xodr")
+    assert project(network, -40.0, -1.0).road_id == "1" and project(network, -40.0, -1.0).lane_id == -1
+    with pytest.raises(UserInputError, match="lies on no lane"):
+        project(network, 40.0, 40.0)
 
 
 # ------------------------------------------------------------------------------------ hostile and malformed

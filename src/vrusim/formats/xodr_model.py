@@ -79,12 +79,15 @@ class Cubic:
 
 @dataclass(frozen=True)
 class Lane:
-    """A `<lane>`: id (0 centre, > 0 left, < 0 right of the reference line), type and width records."""
+    """A `<lane>`: id (0 centre, > 0 left, < 0 right of the reference line), type and width records; the lane ids
+    its `<link>` names as predecessors and successors (on the linked road; empty: none given)."""
 
     id: int
     type: str
     widths: tuple[Cubic, ...]
     line: int = 0
+    predecessors: tuple[int, ...] = ()
+    successors: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -117,7 +117,13 @@ class _Reader:
             raise self.fail(element.first("border"), "is not supported (lane widths only)")  # type: ignore[arg-type]
         widths = tuple(self.cubic(width, "sOffset") for width in element.all("width"))
         _ascending(self, element.all("width"), [w.s_m for w in widths], "sOffset")
-        return Lane(self.integer(element, "id"), element.attrib.get("type", "none"), widths, element.line)
+        link = element.first("link")
+        links = [
+            [self.integer(e, "id") for e in link.all(tag)] if link is not None else []
+            for tag in ("predecessor", "successor")
+        ]
+        lane_type = element.attrib.get("type", "none")
+        return Lane(self.integer(element, "id"), lane_type, widths, element.line, tuple(links[0]), tuple(links[1]))
 
     def side(self, section: Element, tag: str, sign: int) -> tuple[Lane, ...]:
         holder = section.first(tag)

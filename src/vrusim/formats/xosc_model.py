@@ -70,13 +70,35 @@ class SpeedChange:
 
 
 @dataclass(frozen=True)
+class VertexTimes:
+    """Simulation times (s) at which a trajectory reaches its vertices (`<TimeReference><Timing>` applied), and for
+    each the (tag, line) of the element that gave it (a `<Vertex>`, a `<Clothoid>`, ...), for error messages."""
+
+    times_s: tuple[float, ...]
+    sources: tuple[tuple[str, int], ...]
+
+
+@dataclass(frozen=True)
 class Trajectory:
-    """A followed polyline (vertices with headings), started at `offset_m` along it, from `condition`."""
+    """A followed polyline (vertices with headings), started at `offset_m` along it, from `condition`; `timing`:
+    when it must reach each vertex (None: at the entity's own speed)."""
 
     vertices: tuple[WorldPose, ...]
     offset_m: float
     condition: Condition
     line: int
+    timing: VertexTimes | None = None
+
+
+@dataclass
+class SampledShape:
+    """A trajectory shape as vertices, each with its time as written (None: not given) and the (tag, line) of its
+    element; `run_out`: the last vertex is a straight continuation added past the shape's end."""
+
+    vertices: list[WorldPose] = field(default_factory=list)
+    times_s: list[float | None] = field(default_factory=list)
+    sources: list[tuple[str, int]] = field(default_factory=list)
+    run_out: bool = False
 
 
 @dataclass

@@ -32,6 +32,7 @@ from vrusim.formats.xosc_model import (
 from vrusim.formats.xosc_route_fit import fit_route
 from vrusim.formats.xosc_speed_shapes import refuse_shaped_ego, vru_speed_shape
 from vrusim.formats.xosc_sync_vru import check_sync_actors, synchronised_vru
+from vrusim.formats.xosc_timing import check_ego_timing, timed_vru_fields
 from vrusim.formats.xosc_triggers import TriggerMapper
 from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Ego
@@ -177,7 +178,21 @@ class ScenarioBuilder:
             return fields
         if changes:
             fields["driver"] = self.driver(changes, initial, fields)
+        self.ego_timing(motion, fields)
         return fields
+
+    def ego_timing(self, motion: Motion, fields: dict[str, Any]) -> None:
+        """Refuse a timed ego trajectory unless it is driven at the cruise speed from t = 0 (xosc_timing)."""
+        trajectory = motion.trajectory
+        if trajectory is None or trajectory.timing is None:
+            return
+        if (
+            fields["reverse"]
+            or "driver" in fields
+            or fields.get("initial_speed_mps") not in (None, fields["cruise_speed_mps"])
+        ):
+            raise self.error(trajectory.line, "a timed ego trajectory needs one constant speed (no speed changes)")
+        check_ego_timing(self.doc.source, trajectory.vertices, trajectory.timing, fields["cruise_speed_mps"])
 
     def driver(self, changes: list[SpeedChange], initial: float, fields: dict[str, Any]) -> dict[str, Any]:
         """The ego's speed changes as driver phases (the first holds the initial speed from t = 0; a step at t = 0
@@ -276,8 +291,15 @@ class ScenarioBuilder:
             if radius is not None
             else max(entity.length_m, entity.width_m) / 2,
         }
-        fields |= self.vru_speeds(entity, motion, fields["initial_speed_mps"])
         trajectory = motion.trajectory
+        if trajectory is not None and trajectory.timing is not None:
+            if motion.speed_changes:
+                message = f"entity {entity.name!r}: a timed trajectory sets the speed; its speed events would too"
+                raise self.error(motion.speed_changes[0].line, message)
+            initial = fields["initial_speed_mps"]
+            fields |= timed_vru_fields(self.doc.source, trajectory.vertices, trajectory.timing, initial)
+        else:
+            fields |= self.vru_speeds(entity, motion, fields["initial_speed_mps"])
         if trajectory is None:
             return fields | {"heading_deg": start["heading_deg"]}
         self.at_start(trajectory.condition, f"entity {entity.name!r}'s trajectory")

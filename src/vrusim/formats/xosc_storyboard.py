@@ -20,7 +20,7 @@ from vrusim.formats.xosc_actions import NEUTRAL_ACTIONS, PRIVATE_ACTIONS, follow
 from vrusim.formats.xosc_catalogs import catalog_entry
 from vrusim.formats.xosc_conditions import read_trigger
 from vrusim.formats.xosc_document import XoscDocument
-from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory
+from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory, WorldPose
 from vrusim.formats.xosc_notes import ImportNotes
 from vrusim.formats.xosc_synchronize import SYNC_ACTIONS, read_longitudinal_distance, read_synchronize
 
@@ -51,7 +51,7 @@ class _StoryReader:
         elif action.tag == "TeleportAction":
             if event:
                 raise doc.fail(action, "is only supported in <Init>")
-            motion.pose = teleport(doc, action, self.network)
+            motion.pose = teleport(doc, action, self.network, self.placed())
         elif action.tag == "SynchronizeAction":
             if motion.sync is not None:
                 raise doc.fail(action, f"entity {shown(name)} is already synchronised (a VRU synchronises once)")
@@ -71,8 +71,12 @@ class _StoryReader:
         else:
             if motion.trajectory is not None:
                 raise doc.fail(action, f"entity {shown(name)} already follows a trajectory")
-            vertices, offset = follow_trajectory(doc, action, self.network)
-            motion.trajectory = Trajectory(vertices, offset, condition, action.line)
+            vertices, offset, times = follow_trajectory(doc, action, self.network, self.placed(), name)
+            motion.trajectory = Trajectory(vertices, offset, condition, action.line, times)
+
+    def placed(self) -> dict[str, WorldPose]:
+        """The entities placed so far (by `<Init>` TeleportActions, in file order) and their poses."""
+        return {name: motion.pose for name, motion in self.story.motions.items() if motion.pose is not None}
 
     def controller(self, action: Element) -> None:
         """A controller assignment or activation: no effect on the motion (the ego and VRUs follow the file)."""
