@@ -94,6 +94,10 @@ class StoryDef:
     motions: dict[str, Motion]
     stop: list[Condition] = field(default_factory=list)
     night: bool | None = None
+    events: dict[str, Condition] = field(default_factory=dict)
+    """Every event's start condition, by event name."""
+    variable_changes: list = field(default_factory=list)
+    """The events' VariableActions (`xosc_condition_kinds.VariableChange`), in file order."""
 
 
 # ----------------------------------------------------------------------------------- actions and conditions (#19)
