@@ -261,8 +261,9 @@ class ConditionMapper(TriggerMapper):
     def all_of(self, condition: AllCondition, vru: str) -> Trigger:
         """AND-ed conditions: every one holds at the returned instant (else refused)."""
         options = [o for o in condition.options if o.kind != "always"]
-        if any(o.kind == "never" for o in options):
-            raise self.refuse(condition, "never holds (a condition of the group is false)")
+        never = [o for o in options if o.kind == "never"]
+        if never:
+            raise self.refuse(never[0], "never holds, so its AND-ed <ConditionGroup> never holds")
         if not options:
             return {"at_time_s": 0.0}
         if len(options) > 1 and any(isinstance(o, FallingCondition) for o in options):

@@ -123,7 +123,7 @@ class _StoryReader:
             inner = doc.single(action, {"PrivateAction", "GlobalAction"})
             if inner.tag == "PrivateAction":
                 self.private(inner, actor, condition, name)
-            elif inner.first("VariableAction") is not None:
+            elif inner.first("VariableAction") or inner.first("ParameterAction"):
                 self.environment(inner, name)
             elif (condition.kind, condition.value) != ("time", 0.0):
                 raise doc.fail(inner, "is only supported in an event started at simulation time 0")
