@@ -17,8 +17,8 @@ import vrusim
 from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.formats.xosc_import import read_xosc
-from vrusim.scenario.field_paths import replaced
 from vrusim.formats.xosc_speed_conditions import first_time, standstill_time, vru_profile
+from vrusim.scenario.field_paths import replaced
 from vrusim.sources import apply_planner_and_seed
 
 DATA = Path(__file__).parent / "data" / "xosc" / "conditions"
@@ -101,27 +101,96 @@ def _refused(tmp_path: Path, name: str, old: str, new: str, marker: str, *words:
 
 SPEED = '<SpeedCondition value="8.0" rule="lessOrEqual"/>'
 REFUSALS = {
-    "equal speed": ("ego_speed.xosc", SPEED, SPEED.replace("lessOrEqual", "equalTo"), "<SpeedCondition", "<SpeedCondition>", "instant"),
-    "speed component": ("ego_speed.xosc", SPEED, SPEED.replace("/>", ' direction="lateral"/>'), "<SpeedCondition", "<SpeedCondition>", "direction"),
-    "delayed ego speed": ("ego_speed.xosc", 'delay="0.0" conditionEdge="none"><ByEntityCondition>', 'delay="1.0" conditionEdge="none"><ByEntityCondition>', "<SpeedCondition", "<SpeedCondition>", "delay"),
-    "falling not held": ("ego_speed_falling.xosc", 'value="7.0" rule="greaterThan"', 'value="12.0" rule="greaterThan"', "<SpeedCondition", "<SpeedCondition>", "t = 0"),
-    "collision": ("ego_speed.xosc", SPEED, '<CollisionCondition><EntityRef entityRef="vru0"/></CollisionCondition>', "<CollisionCondition", "<CollisionCondition>", "first contact"),
-    "never": ("and_group.xosc", 'name="Armed" parameterType="boolean" value="true"', 'name="Armed" parameterType="boolean" value="false"', "<ConditionGroup><Condition name=\"a\"", "<ConditionGroup>", "never"),
+    "equal speed": (
+        "ego_speed.xosc",
+        SPEED,
+        SPEED.replace("lessOrEqual", "equalTo"),
+        "<SpeedCondition",
+        "<SpeedCondition>",
+        "instant",
+    ),
+    "speed component": (
+        "ego_speed.xosc",
+        SPEED,
+        SPEED.replace("/>", ' direction="lateral"/>'),
+        "<SpeedCondition",
+        "<SpeedCondition>",
+        "direction",
+    ),
+    "delayed ego speed": (
+        "ego_speed.xosc",
+        'delay="0.0" conditionEdge="none"><ByEntityCondition>',
+        'delay="1.0" conditionEdge="none"><ByEntityCondition>',
+        "<SpeedCondition",
+        "<SpeedCondition>",
+        "delay",
+    ),
+    "falling not held": (
+        "ego_speed_falling.xosc",
+        'value="7.0" rule="greaterThan"',
+        'value="12.0" rule="greaterThan"',
+        "<SpeedCondition",
+        "<SpeedCondition>",
+        "t = 0",
+    ),
+    "collision": (
+        "ego_speed.xosc",
+        SPEED,
+        '<CollisionCondition><EntityRef entityRef="vru0"/></CollisionCondition>',
+        "<CollisionCondition",
+        "<CollisionCondition>",
+        "first contact",
+    ),
+    "never": (
+        "and_group.xosc",
+        'name="Armed" parameterType="boolean" value="true"',
+        'name="Armed" parameterType="boolean" value="false"',
+        '<ConditionGroup><Condition name="a"',
+        "<ConditionGroup>",
+        "never",
+    ),
     "mixed and": (
         "and_group.xosc",
-        '<Condition name="a" delay="0.0" conditionEdge="none"><ByValueCondition><SimulationTimeCondition value="1.0" rule="greaterOrEqual"/></ByValueCondition></Condition>',
-        '<Condition name="a" delay="0.0" conditionEdge="none"><ByEntityCondition><TriggeringEntities triggeringEntitiesRule="any"><EntityRef entityRef="ego"/></TriggeringEntities><EntityCondition>' + SPEED + "</EntityCondition></ByEntityCondition></Condition>",
-        "<ConditionGroup><Condition name=\"a\"",
+        '<Condition name="a" delay="0.0" conditionEdge="none"><ByValueCondition>'
+        '<SimulationTimeCondition value="1.0" rule="greaterOrEqual"/></ByValueCondition></Condition>',
+        '<Condition name="a" delay="0.0" conditionEdge="none"><ByEntityCondition><TriggeringEntities '
+        'triggeringEntitiesRule="any"><EntityRef entityRef="ego"/></TriggeringEntities><EntityCondition>'
+        + SPEED
+        + "</EntityCondition></ByEntityCondition></Condition>",
+        '<ConditionGroup><Condition name="a"',
         "<ConditionGroup>",
         "different kinds",
     ),
-    "parameter action": ("variable.xosc", '<VariableAction variableRef="Armed"><SetAction value="true"/></VariableAction>', '<ParameterAction parameterRef="Armed"><SetAction value="true"/></ParameterAction>', "<ParameterAction", "<ParameterAction>", "VariableAction"),
-    "variable never": ("variable.xosc", '<AddValue value="2"/>', '<AddValue value="1"/>', "<VariableCondition variableRef=\"Count\"", "<VariableCondition>", "never"),
-    "falling forever": ("falling_time.xosc", 'value="1.5" rule="lessThan"', 'value="1.5" rule="greaterThan"', "<SimulationTimeCondition value=\"1.5\"", "<SimulationTimeCondition>", "never stops holding"),
+    "parameter action": (
+        "variable.xosc",
+        '<VariableAction variableRef="Armed"><SetAction value="true"/></VariableAction>',
+        '<ParameterAction parameterRef="Armed"><SetAction value="true"/></ParameterAction>',
+        "<ParameterAction",
+        "<ParameterAction>",
+        "VariableAction",
+    ),
+    "variable never": (
+        "variable.xosc",
+        '<AddValue value="2"/>',
+        '<AddValue value="1"/>',
+        '<VariableCondition variableRef="Count"',
+        "<VariableCondition>",
+        "never",
+    ),
+    "falling forever": (
+        "falling_time.xosc",
+        'value="1.5" rule="lessThan"',
+        'value="1.5" rule="greaterThan"',
+        '<SimulationTimeCondition value="1.5"',
+        "<SimulationTimeCondition>",
+        "never stops holding",
+    ),
 }
 
 
-@pytest.mark.parametrize(("name", "old", "new", "marker", "words"), [(*r[:4], r[4:]) for r in REFUSALS.values()], ids=list(REFUSALS))
+@pytest.mark.parametrize(
+    ("name", "old", "new", "marker", "words"), [(*r[:4], r[4:]) for r in REFUSALS.values()], ids=list(REFUSALS)
+)
 def test_an_unrepresentable_condition_is_refused_with_its_line(tmp_path, name, old, new, marker, words):
     _refused(tmp_path, name, old, new, marker, *words)
 
@@ -129,11 +198,11 @@ def test_an_unrepresentable_condition_is_refused_with_its_line(tmp_path, name, o
 # --------------------------------------------------------------------------------------------- speed profiles
 
 
-@given(
-    start=st.floats(0.0, 5.0), top=st.floats(0.5, 5.0), accel=st.floats(0.2, 5.0), threshold=st.floats(0.05, 0.95)
-)
+@given(start=st.floats(0.0, 5.0), top=st.floats(0.5, 5.0), accel=st.floats(0.2, 5.0), threshold=st.floats(0.05, 0.95))
 def test_a_vru_speed_threshold_is_crossed_on_its_ramp(start, top, accel, threshold):
-    profile = vru_profile({"initial_speed_mps": 0.0, "top_speed_mps": top, "max_accel_mps2": accel, "trigger": {"at_time_s": start}})
+    profile = vru_profile(
+        {"initial_speed_mps": 0.0, "top_speed_mps": top, "max_accel_mps2": accel, "trigger": {"at_time_s": start}}
+    )
     assert profile is not None
     value = threshold * top
     assert first_time(profile, "greaterOrEqual", value) == pytest.approx(start + value / accel)
@@ -143,7 +212,12 @@ def test_a_vru_speed_threshold_is_crossed_on_its_ramp(start, top, accel, thresho
 
 @given(after=st.floats(0.0, 3.0), decel=st.floats(0.5, 4.0), duration=st.floats(0.0, 2.0))
 def test_a_vru_stands_still_after_its_brake(after, decel, duration):
-    fields = {"initial_speed_mps": 1.0, "top_speed_mps": 1.0, "trigger": {"at_time_s": 1.0}, "brake": {"after_trigger_s": after, "decel_mps2": decel}}
+    fields = {
+        "initial_speed_mps": 1.0,
+        "top_speed_mps": 1.0,
+        "trigger": {"at_time_s": 1.0},
+        "brake": {"after_trigger_s": after, "decel_mps2": decel},
+    }
     profile = vru_profile(fields)
     assert profile is not None
     assert standstill_time(profile, duration) == pytest.approx(1.0 + after + 1.0 / decel + duration)

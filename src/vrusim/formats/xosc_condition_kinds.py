@@ -46,6 +46,9 @@ def compare(left: Value | str, rule: str, right: Value | str) -> bool:
     return (left == right) == (rule == "equalTo")
 
 
+NEVER = Condition("never")
+
+
 @dataclass(frozen=True)
 class SpeedTest(Condition):
     """ "speed" or "standstill" (above); `tag`: the element read."""
@@ -82,7 +85,7 @@ class AllCondition(Condition):
 class FallingCondition(Condition):
     """ "falling": the first instant `inner` stops holding after it has held."""
 
-    inner: Condition = Condition("never")
+    inner: Condition = NEVER
     tag: str = "Condition"
 
 

@@ -33,7 +33,6 @@ from vrusim.formats.xosc_condition_kinds import (
     AllCondition,
     FallingCondition,
     SpeedTest,
-    StaticCondition,
     VariableChange,
     VariableTest,
     compare,
@@ -135,7 +134,9 @@ class ConditionMapper(TriggerMapper):
         trigger = self.mapped(resolved, "")
         key = next(iter(trigger))
         if key not in ("at_time_s", "ego_route_m"):
-            raise self.refuse(resolved, "an ego speed change starts at a time or on its route distance, not on its own speed")
+            raise self.refuse(
+                resolved, "an ego speed change starts at a time or on its route distance, not on its own speed"
+            )
         return key, float(trigger[key])
 
     def mapped(self, condition: Condition, vru: str) -> Trigger:
@@ -153,7 +154,8 @@ class ConditionMapper(TriggerMapper):
             raise self.refuse(condition, "never holds, so the event would never start")
         if condition.kind == "collision":
             raise self.refuse(
-                condition, "cannot start an event: a run stops at first contact (sim.stop_on_collision) and VRUs "
+                condition,
+                "cannot start an event: a run stops at first contact (sim.stop_on_collision) and VRUs "
                 "do not react to a contact",
             )
         if isinstance(condition, AllCondition):
@@ -271,7 +273,9 @@ class ConditionMapper(TriggerMapper):
         triggers = [self.mapped(o, vru) for o in options]
         kinds = {next(iter(t)) for t in triggers}
         if len(kinds) != 1:
-            raise self.refuse(condition, f"AND-ed conditions of different kinds ({', '.join(sorted(kinds))}) are not supported")
+            raise self.refuse(
+                condition, f"AND-ed conditions of different kinds ({', '.join(sorted(kinds))}) are not supported"
+            )
         key = kinds.pop()
         values = [float(t[key]) for t in triggers]
         if key in ("ego_speed_below_mps",):
@@ -293,7 +297,12 @@ class ConditionMapper(TriggerMapper):
         if isinstance(option, PlaceCondition) and option.kind == "distance" and key == "ego_route_m":
             leave = self.leave(option, vru, self.approach(option, vru))
             return leave is None or leave > at
-        if isinstance(option, SpeedTest) and key == "at_time_s" and option.kind == "speed" and option.ref != self.ego_name:
+        if (
+            isinstance(option, SpeedTest)
+            and key == "at_time_s"
+            and option.kind == "speed"
+            and option.ref != self.ego_name
+        ):
             mine = self.known(option, option.ref, vru)
             other = self.known(option, option.other, vru) if option.other else ((0.0, 0.0),)
             profile = difference(mine, other)
@@ -309,10 +318,15 @@ class ConditionMapper(TriggerMapper):
         if isinstance(inner, PlaceCondition) and inner.kind == "distance" and inner.delay_s == 0.0:
             leave = self.leave(inner, vru, self.approach(inner, vru))
             if leave is None:
-                raise self.refuse(inner, "the ego does not leave this distance along its route: the falling edge never comes")
+                raise self.refuse(
+                    inner, "the ego does not leave this distance along its route: the falling edge never comes"
+                )
             return {"ego_route_m": leave}
         if isinstance(inner, SpeedTest) and inner.kind == "speed":
-            mine, other = self.speed_of(inner.ref, vru), self.speed_of(inner.other, vru) if inner.other else ((0.0, 0.0),)
+            mine, other = (
+                self.speed_of(inner.ref, vru),
+                self.speed_of(inner.other, vru) if inner.other else ((0.0, 0.0),),
+            )
             if mine is not None and other is not None:
                 profile = difference(mine, other)
                 start = first_time(profile, inner.rule, inner.value)
@@ -324,7 +338,11 @@ class ConditionMapper(TriggerMapper):
                 return self.ego_speed(inner, NEGATED[inner.rule], inner.value)
         if inner.kind == "never":
             raise self.refuse(inner, "never holds, so it never falls")
-        raise self.refuse(inner, "with conditionEdge falling is not supported: it never stops holding, or not at a moment known before the run")
+        raise self.refuse(
+            inner,
+            "with conditionEdge falling is not supported: it never stops holding, or not at a moment known "
+            "before the run",
+        )
 
     def leave(self, condition: PlaceCondition, vru: str, entry_m: float) -> float | None:
         """The first route station after `entry_m` where the ego is farther than `condition.value` from the

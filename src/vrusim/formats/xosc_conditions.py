@@ -173,7 +173,9 @@ def read_conditions(doc: XoscDocument, trigger: Element, network: Network | None
         inside = [read_condition(doc, c, network) for c in doc.children(group, {"Condition"})]
         if not inside:
             raise doc.fail(group, "needs at least one <Condition>")
-        conditions.append(inside[0] if len(inside) == 1 else AllCondition("all", line=group.line, options=tuple(inside)))
+        conditions.append(
+            inside[0] if len(inside) == 1 else AllCondition("all", line=group.line, options=tuple(inside))
+        )
     return conditions
 
 

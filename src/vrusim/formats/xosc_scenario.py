@@ -15,6 +15,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
+from vrusim.formats.xosc_condition_logic import ConditionMapper
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import (
     OVERRUN_M,
@@ -28,7 +29,6 @@ from vrusim.formats.xosc_model import (
     WorldPose,
 )
 from vrusim.formats.xosc_route_fit import fit_route
-from vrusim.formats.xosc_condition_logic import ConditionMapper
 from vrusim.formats.xosc_speed_conditions import STANDING, Profile, vru_profile
 from vrusim.formats.xosc_variables import declared_values
 from vrusim.scenario.loading import describe_validation_error

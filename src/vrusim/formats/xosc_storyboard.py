@@ -84,7 +84,9 @@ class _StoryReader:
             raise doc.fail(action, "is not supported (deprecated in OpenSCENARIO 1.2): use a VariableAction")
         if action.tag == "VariableAction":
             if not event:
-                raise doc.fail(action, "is supported only in an event: give the variable's initial value in <VariableDeclarations>")
+                raise doc.fail(
+                    action, "is supported only in an event: give the variable's initial value in <VariableDeclarations>"
+                )
             self.story.variable_changes.append(read_variable_action(doc, action, event))
             return
         environment = doc.single(action, {"Environment"})

@@ -18,7 +18,6 @@ with extra("export"):
     from scenariogeneration import xodr, xosc
 
 from vrusim.interop.opendrive import road_network
-from vrusim.interop.osc_speed_triggers import ego_speed_trigger
 from vrusim.interop.osc_entities import (
     ego_reference_pose,
     ego_vehicle,
@@ -34,6 +33,7 @@ from vrusim.interop.osc_motion import (
     vru_reach_m,
     vru_trajectory,
 )
+from vrusim.interop.osc_speed_triggers import ego_speed_trigger
 from vrusim.io.atomic import write_together
 from vrusim.scenario.schema import Scenario, Vru
 from vrusim.version import __version__
