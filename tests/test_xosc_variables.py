@@ -69,12 +69,12 @@ def test_a_variable_declared_twice_isrefused():
         _declared('<VariableDeclaration name="N" variableType="int" value="1"/>' * 2)
 
 
-def test_a_variable_condition_isrefused(inline):
+def test_a_variable_condition_that_never_holds_isrefused(inline):
     text = inline.read_text()
     old = '<SimulationTimeCondition value="0.0" rule="greaterOrEqual"/>'
-    inline.write_text(text.replace(old, '<VariableCondition variableRef="Count" value="3" rule="equalTo"/>', 1))
+    inline.write_text(text.replace(old, '<VariableCondition variableRef="Count" value="4" rule="equalTo"/>', 1))
     line = next(n for n, row in enumerate(inline.read_text().splitlines(), 1) if "<VariableCondition" in row)
-    refused(inline, "<VariableCondition>", f"line {line}", "variables")
+    refused(inline, "<VariableCondition>", f"line {line}", "never holds")
 
 
 def test_a_variable_action_isrefused(inline):

@@ -1,31 +1,35 @@
 """Read OpenSCENARIO triggers into `Condition`s.
 
-Read: SimulationTimeCondition ("time"), TraveledDistanceCondition ("travel"), StoryboardElementStateCondition of
-an event ("event_start"), CollisionCondition ("collision"), ReachPositionCondition, DistanceCondition and
-RelativeDistanceCondition ("distance", euclidean, approaching: rule lessThan / lessOrEqual) and
-TimeToCollisionCondition to a position ("ttc"). Which of them a VRU trigger, a driver phase or the stop trigger
-can use is decided when the scenario is built (`xosc_triggers`). SpeedCondition, StandStillCondition and every
-other condition are refused: no vrusim trigger starts on them. A trigger is OR-ed `<ConditionGroup>`s of one
-condition each (AND-ed conditions are refused); several groups give an `AnyCondition`. A simulation-time
-condition's delay is added to its time; other conditions keep theirs in `delay_s`. Edges `none` and `rising`
-are read alike: every condition read holds from its first instant on until the trigger fires.
+Read: SimulationTimeCondition ("time"; with rule lessThan / lessOrEqual and edge falling "time_before"),
+TraveledDistanceCondition ("travel"), StoryboardElementStateCondition of an event ("event_start"),
+CollisionCondition ("collision"), ReachPositionCondition, DistanceCondition and RelativeDistanceCondition
+("distance", euclidean, approaching: rule lessThan / lessOrEqual), TimeToCollisionCondition to a position or an
+entity ("ttc"), SpeedCondition, StandStillCondition, RelativeSpeedCondition ("speed", "standstill"),
+ParameterCondition ("always" / "never") and VariableCondition ("variable"; `xosc_condition_kinds`). Which of them a
+VRU trigger, a driver phase or the stop trigger can use is decided when the scenario is built (`xosc_triggers`,
+`xosc_condition_logic`). Other conditions are refused. A trigger is OR-ed `<ConditionGroup>`s (several give an
+`AnyCondition`) of AND-ed conditions (several give an `AllCondition`). A simulation-time condition's delay is
+added to its time; other conditions keep theirs in `delay_s`. Edges `none`, `rising` and `risingOrFalling` are
+read alike (a condition counts as false before the run, so its first change is its rise, at t = 0 when
+it holds then); `falling` wraps the
+condition in a `FallingCondition`.
 """
 
 from __future__ import annotations
 
 from vrusim.formats.xml_file import Element
 from vrusim.formats.xodr_model import Network
+from vrusim.formats.xosc_condition_kinds import AllCondition, FallingCondition
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import AnyCondition, Condition, PlaceCondition
 from vrusim.formats.xosc_positions import read_position
+from vrusim.formats.xosc_speed_conditions import read_speed
+from vrusim.formats.xosc_variables import read_parameter_condition, read_variable_condition
 
-_EDGES = ("none", "rising")
+_EDGES = ("none", "rising", "risingOrFalling", "falling")
+_SPEEDS = ("SpeedCondition", "StandStillCondition", "RelativeSpeedCondition")
 _APPROACH = ("lessThan", "lessOrEqual")
 _REFUSED = {
-    "SpeedCondition": "a speed depends on the planner; vrusim triggers start on time, distance or time to arrival",
-    "StandStillCondition": "a standstill depends on the planner; vrusim triggers start on time, distance or "
-    "time to arrival",
-    "RelativeSpeedCondition": "vrusim triggers do not start on a relative speed",
     "AccelerationCondition": "vrusim triggers do not start on an acceleration",
     "TimeHeadwayCondition": "vrusim triggers do not start on a time headway",
     "EndOfRoadCondition": "vrusim triggers do not start at the end of a road",
@@ -39,6 +43,7 @@ _BY_ENTITY = {
     "DistanceCondition",
     "RelativeDistanceCondition",
     "TimeToCollisionCondition",
+    *_SPEEDS,
     *_REFUSED,
 }
 
@@ -92,6 +97,8 @@ class _ConditionReader:
         if condition.tag == "TraveledDistanceCondition":
             doc.children(condition, set())
             return Condition("travel", doc.number(condition, "value"), ref=ref, delay_s=delay_s, line=condition.line)
+        if condition.tag in _SPEEDS:
+            return read_speed(doc, condition, ref, delay_s)
         if condition.tag == "CollisionCondition":
             target = doc.single(condition, {"EntityRef"})
             return Condition("collision", ref=ref, other=doc.text(target, "entityRef"), line=condition.line)
@@ -122,17 +129,33 @@ class _ConditionReader:
 
     def condition(self, element: Element) -> Condition:
         doc = self.doc
-        doc.choice(element, "conditionEdge", _EDGES)
+        edge = doc.choice(element, "conditionEdge", _EDGES)
         delay = doc.number(element, "delay", 0.0)
         if delay < 0:
             raise doc.fail(element, "attribute delay: must be >= 0")
-        kind = doc.single(element, {"ByValueCondition", "ByEntityCondition"})
+        read = self.by_value(doc.single(element, {"ByValueCondition", "ByEntityCondition"}), delay, edge)
+        if edge == "falling":
+            return FallingCondition("falling", line=element.line, inner=read)
+        return read
+
+    def by_value(self, kind: Element, delay: float, edge: str) -> Condition:
+        """A `<ByEntityCondition>` or `<ByValueCondition>` (a time condition with rule lessThan / lessOrEqual
+        only for a falling edge)."""
+        doc = self.doc
         if kind.tag == "ByEntityCondition":
             return self.by_entity(kind, delay)
-        value = doc.single(kind, {"SimulationTimeCondition", "StoryboardElementStateCondition", "VariableCondition"})
-        if value.tag == "VariableCondition":
-            raise doc.fail(value, "is not supported: vrusim keeps variables at their declared values")
+        allowed = {"SimulationTimeCondition", "StoryboardElementStateCondition", "VariableCondition"}
+        value = doc.single(kind, allowed | {"ParameterCondition"})
+        if value.tag in ("VariableCondition", "ParameterCondition"):
+            if delay != 0.0:
+                raise doc.fail(value, "a delay is not supported on a parameter or variable condition")
+            if value.tag == "ParameterCondition":
+                return read_parameter_condition(doc, value)
+            return read_variable_condition(doc, value)
         if value.tag == "SimulationTimeCondition":
+            if edge == "falling" and doc.text(value, "rule") in ("lessThan", "lessOrEqual"):
+                doc.children(value, set())
+                return Condition("time_before", doc.number(value, "value") + delay, line=value.line)
             return self.time(value, delay)
         return self.event_started(value, delay)
 
@@ -147,10 +170,12 @@ def read_conditions(doc: XoscDocument, trigger: Element, network: Network | None
     groups = doc.children(trigger, {"ConditionGroup"})
     conditions = []
     for group in groups:
-        inside = doc.children(group, {"Condition"})
-        if len(inside) != 1:
-            raise doc.fail(group, "needs exactly one <Condition> (AND-ed conditions are not supported)")
-        conditions.append(read_condition(doc, inside[0], network))
+        inside = [read_condition(doc, c, network) for c in doc.children(group, {"Condition"})]
+        if not inside:
+            raise doc.fail(group, "needs at least one <Condition>")
+        conditions.append(
+            inside[0] if len(inside) == 1 else AllCondition("all", line=group.line, options=tuple(inside))
+        )
     return conditions
 
 

@@ -120,6 +120,10 @@ class StoryDef:
     stop: list[Condition] = field(default_factory=list)
     night: bool | None = None
     placements: list[Placement] = field(default_factory=list)
+    events: dict[str, Condition] = field(default_factory=dict)
+    """Every event's start condition, by event name."""
+    variable_changes: list = field(default_factory=list)
+    """The events' VariableActions (`xosc_condition_kinds.VariableChange`), in file order."""
 
 
 # ----------------------------------------------------------------------------------- actions and conditions (#19)

@@ -16,6 +16,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from vrusim.errors import UserInputError
+from vrusim.formats.xosc_condition_logic import ConditionMapper
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_longitudinal import place_entities
 from vrusim.formats.xosc_model import (
@@ -30,10 +31,11 @@ from vrusim.formats.xosc_model import (
     WorldPose,
 )
 from vrusim.formats.xosc_route_fit import fit_route
+from vrusim.formats.xosc_speed_conditions import STANDING, Profile, vru_profile
 from vrusim.formats.xosc_speed_shapes import refuse_shaped_ego, vru_speed_shape
 from vrusim.formats.xosc_sync_vru import check_sync_actors, synchronised_vru
 from vrusim.formats.xosc_timing import check_ego_timing, timed_vru_fields
-from vrusim.formats.xosc_triggers import TriggerMapper
+from vrusim.formats.xosc_variables import declared_values
 from vrusim.scenario.loading import describe_validation_error
 from vrusim.scenario.schema import Ego
 from vrusim.scenario.vru_types import VruType
@@ -92,7 +94,7 @@ class ScenarioBuilder:
         if ego is None:
             raise self.error(0, "has no ego: name an entity 'ego' or 'VUT', or give a car")
         self.ego = ego
-        events = {c.event: c.condition for m in story.motions.values() for c in m.speed_changes}
+        events = {c.event: c.condition for m in story.motions.values() for c in m.speed_changes} | story.events
         standing, vrus = {}, set()
         for entity in entities:
             motion = story.motions[entity.name]
@@ -100,7 +102,29 @@ class ScenarioBuilder:
                 vrus.add(entity.name)
             if entity is not ego and not motion.initial_speed_mps and motion.pose is not None:
                 standing[entity.name] = motion.pose
-        self.triggers = TriggerMapper(self.error, ego.name, events, standing, vrus)
+        initial = {e.name: self.story.motions[e.name].initial_speed_mps or 0.0 for e in entities if e is not ego}
+        variables = declared_values(doc)
+        changes = story.variable_changes
+        self.profiling: set[str] = set()
+        self.triggers = ConditionMapper(
+            self.error, ego.name, events, standing, vrus, variables, changes, self.speed_profile, initial
+        )
+
+    def speed_profile(self, name: str) -> Profile | None:
+        """The speed profile of entity `name` when known before the run (a VRU started at a time, an obstacle)."""
+        entity = next(e for e in self.entities if e.name == name)
+        kind = vru_type(entity)
+        if kind is None:
+            return STANDING
+        if name in self.profiling:
+            raise self.error(entity.line, f"entity {name!r}: its start depends on its own speed")
+        self.profiling.add(name)
+        try:
+            motion = self.story.motions[name]
+            initial = motion.initial_speed_mps or 0.0
+            return vru_profile({"initial_speed_mps": initial} | self.vru_speeds(entity, motion, initial))
+        finally:
+            self.profiling.discard(name)
 
     def error(self, line: int, message: str) -> UserInputError:
         where = f"line {line}: " if line else ""
@@ -233,7 +257,10 @@ class ScenarioBuilder:
         return (resolved.kind, resolved.value) == ("time", 0.0)
 
     def at_start(self, condition: Condition, what: str) -> None:
-        if (condition.kind, condition.value) != ("time", 0.0):
+        resolved = self.triggers.resolve(condition)
+        if resolved.kind == "never":
+            raise self.triggers.refuse(resolved, f"never holds, and {what} must start at simulation time 0")
+        if resolved.kind != "always" and (resolved.kind, resolved.value) != ("time", 0.0):
             raise self.error(condition.line, f"{what} must start at simulation time 0")
 
     # ------------------------------------------------------------------------------------------- VRUs

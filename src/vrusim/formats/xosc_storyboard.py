@@ -23,6 +23,7 @@ from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import Condition, Motion, RampedSpeedChange, StoryDef, Trajectory, WorldPose
 from vrusim.formats.xosc_notes import ImportNotes
 from vrusim.formats.xosc_synchronize import SYNC_ACTIONS, read_longitudinal_distance, read_synchronize
+from vrusim.formats.xosc_variables import read_variable_action
 
 DAY_STARTS_H, NIGHT_STARTS_H = 6, 20
 """Hours (local time of day) between which a `<TimeOfDay>` is daylight; outside them it is night."""
@@ -88,11 +89,18 @@ class _StoryReader:
             stack.extend(inner.children)
         self.notes.tolerate(self.doc, action, "controllers do not change the motion vrusim imports")
 
-    def environment(self, element: Element) -> None:
+    def environment(self, element: Element, event: str = "") -> None:
         doc = self.doc
-        action = doc.single(element, {"EnvironmentAction", "VariableAction"})
+        action = doc.single(element, {"EnvironmentAction", "VariableAction", "ParameterAction"})
+        if action.tag == "ParameterAction":
+            raise doc.fail(action, "is not supported (deprecated in OpenSCENARIO 1.2): use a VariableAction")
         if action.tag == "VariableAction":
-            raise doc.fail(action, "is not supported: setting a variable could change the motion")
+            if not event:
+                raise doc.fail(
+                    action, "is supported only in an event: give the variable's initial value in <VariableDeclarations>"
+                )
+            self.story.variable_changes.append(read_variable_action(doc, action, event))
+            return
         environment = doc.single(action, {"Environment"})
         doc.children(environment, {"ParameterDeclarations", "TimeOfDay", "Weather", "RoadCondition"})
         for child in environment.children:
@@ -124,10 +132,13 @@ class _StoryReader:
         doc.children(element, {"Action", "StartTrigger"})
         name = doc.text(element, "name")
         condition = read_trigger(doc, doc.child(element, "StartTrigger"), single=True, network=self.network)[0]
+        self.story.events[name] = condition
         for action in element.all("Action"):
             inner = doc.single(action, {"PrivateAction", "GlobalAction"})
             if inner.tag == "PrivateAction":
                 self.private(inner, actor, condition, name)
+            elif inner.first("VariableAction") or inner.first("ParameterAction"):
+                self.environment(inner, name)
             elif (condition.kind, condition.value) != ("time", 0.0):
                 raise doc.fail(inner, "is only supported in an event started at simulation time 0")
             else:

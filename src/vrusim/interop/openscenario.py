@@ -33,6 +33,7 @@ from vrusim.interop.osc_motion import (
     vru_reach_m,
     vru_trajectory,
 )
+from vrusim.interop.osc_speed_triggers import ego_speed_trigger
 from vrusim.io.atomic import write_together
 from vrusim.scenario.schema import Scenario, Vru
 from vrusim.sim.vru.shaped import PEAK_TO_MEAN_RATE
@@ -149,7 +150,8 @@ def vru_trigger(scenario: Scenario, vru: Vru, name: str, params: _Parameters) ->
     """The start condition equivalent to a VRU's trigger, and a note on it; None if it never fires.
 
     At a time -> SimulationTimeCondition; ego route distance -> the ego's TraveledDistanceCondition (the same
-    rear-axle distance); ego distance or time-to-arrival to a point -> the ego's TraveledDistanceCondition at
+    rear-axle distance); the ego's speed or standstill -> its SpeedCondition or StandStillCondition
+    (`osc_speed_triggers`); ego distance or time-to-arrival to a point -> the ego's TraveledDistanceCondition at
     the station where it fires for the exported, non-reacting ego (`osc_motion.trigger_station_m`).
     """
     trigger = vru.trigger
@@ -159,6 +161,9 @@ def vru_trigger(scenario: Scenario, vru: Vru, name: str, params: _Parameters) ->
     if trigger.ego_route_m is not None:
         value = params.ref(f"{name.capitalize()}TriggerEgoTravel_m", trigger.ego_route_m)
         return _travelled(f"{name}_trigger", value), f"ego travelled {trigger.ego_route_m!r} m"
+    on_speed = ego_speed_trigger(trigger, EGO, f"{name}_trigger", params.ref, name.capitalize())
+    if on_speed is not None:
+        return on_speed
     search = scenario.ego.route.length_m + ego_overrun_m(scenario)
     station = trigger_station_m(scenario.ego, trigger, search)
     if station is None:

@@ -290,11 +290,20 @@ class PlannerSpec(StrictModel):
     params: dict[str, Any] = Field(default_factory=dict)
 
 
-_TRIGGER_CONDITIONS = ("at_time_s", "ego_distance_m", "ego_time_to_arrival_s", "ego_route_m")
+_TRIGGER_CONDITIONS = (
+    "at_time_s",
+    "ego_distance_m",
+    "ego_time_to_arrival_s",
+    "ego_route_m",
+    "ego_speed_below_mps",
+    "ego_speed_above_mps",
+    "ego_standstill_s",
+)
 
 
 class Trigger(StrictModel):
-    """When a VRU starts moving: give exactly one of the four conditions."""
+    """When a VRU starts moving: give exactly one of the conditions (the last three watch the ego's speed at run
+    time, so they depend on the planner)."""
 
     at_time_s: float | None = Field(None, ge=0)
     ego_distance_m: float | None = Field(None, ge=0, description="ego front within this distance of `point`")
@@ -302,6 +311,9 @@ class Trigger(StrictModel):
     ego_route_m: float | None = Field(
         None, ge=0, description="ego (rear axle) has travelled this far along its route, m"
     )
+    ego_speed_below_mps: float | None = Field(None, ge=0, description="ego speed at or below this, m/s")
+    ego_speed_above_mps: float | None = Field(None, ge=0, description="ego speed at or above this, m/s")
+    ego_standstill_s: float | None = Field(None, ge=0, description="ego has stood still (speed 0) this long, s")
     point: Point | None = None
 
     @model_validator(mode="after")

@@ -20,7 +20,7 @@ from vrusim.errors import UserInputError
 from vrusim.geometry.path_table import PathTable
 from vrusim.geometry.paths import Line, PathSpec
 from vrusim.scenario.routes import ego_route_spec, vru_path_spec
-from vrusim.scenario.schema import Scenario
+from vrusim.scenario.schema import Scenario, Trigger
 from vrusim.sim.door import DoorArrays, pack_door
 from vrusim.sim.driver import DriverArrays, pack_driver
 from vrusim.sim.sensing.occlusion import ObstacleArrays, pack_obstacles
@@ -31,6 +31,14 @@ from vrusim.sim.vru.point_mass import POINT_MASS
 from vrusim.sim.vru.registry import vru_motion, vru_motion_entries
 
 TRIGGER_TIME, TRIGGER_DISTANCE, TRIGGER_TIME_TO_ARRIVAL, TRIGGER_ROUTE = 0, 1, 2, 3
+TRIGGER_SPEED_BELOW, TRIGGER_SPEED_ABOVE, TRIGGER_STANDSTILL = 4, 5, 6
+"""Trigger kinds on the ego's speed at run time (`Trigger.ego_speed_below_mps`, `ego_speed_above_mps`,
+`ego_standstill_s`)."""
+_SPEED_TRIGGERS = (
+    ("ego_speed_below_mps", TRIGGER_SPEED_BELOW),
+    ("ego_speed_above_mps", TRIGGER_SPEED_ABOVE),
+    ("ego_standstill_s", TRIGGER_STANDSTILL),
+)
 _PARKED_SLOT = PathSpec(1e7, 1e7, 0.0, (Line(1.0),))
 """Path of an unused VRU slot: 10,000 km away, so it never interacts."""
 
@@ -217,6 +225,15 @@ def _batch_motion(scenarios: list[Scenario]) -> str:
     return next(iter(used), POINT_MASS)
 
 
+def _speed_trigger(trigger: Trigger) -> tuple[int, float]:
+    """(kind, value) of a trigger on the ego's speed."""
+    for name, kind in _SPEED_TRIGGERS:
+        value = getattr(trigger, name)
+        if value is not None:
+            return kind, value
+    raise AssertionError("a validated Trigger sets one condition")
+
+
 def _unique_rows(specs: list) -> tuple[list, np.ndarray]:
     rows: dict = {}
     index = np.array([rows.setdefault(spec, len(rows)) for spec in specs], dtype=np.int64)
@@ -271,6 +288,8 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_DISTANCE, trig.ego_distance_m
             elif trig.ego_route_m is not None:
                 trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_ROUTE, trig.ego_route_m
+            elif trig.ego_time_to_arrival_s is None:
+                trigger_kind[b, k], numeric["tval"][b, k] = _speed_trigger(trig)
             else:
                 trigger_kind[b, k], numeric["tval"][b, k] = (
                     TRIGGER_TIME_TO_ARRIVAL,

@@ -52,6 +52,8 @@ class VruState:
     station_m: np.ndarray
     speed_mps: np.ndarray
     kinematics: np.ndarray
+    ego_stopped_at_s: np.ndarray
+    """For a trigger on the ego's standstill: when the ego last came to a standstill, s (inf: it is moving)."""
 
     @property
     def x_m(self) -> np.ndarray:
@@ -110,4 +112,4 @@ def initial_vrus(params: BatchParams) -> VruState:
     kinematics[0], kinematics[1] = x, y
     kinematics[2], kinematics[3] = speed * tx, speed * ty
     never = np.full(zeros.shape, np.inf)
-    return VruState(np.zeros(zeros.shape, dtype=bool), never, zeros.copy(), speed, kinematics)
+    return VruState(np.zeros(zeros.shape, dtype=bool), never, zeros.copy(), speed, kinematics, never.copy())

@@ -4,7 +4,9 @@ Along the path, acceleration a = clip((v_target - v) / max(tau, dt), -a_max, a_m
 accelerates at a_max from rest and holds its top speed exactly (Euro NCAP targets); tau > 0 gives the
 exponential approach of the social-force driving term (Helbing & Molnár 1995). A VRU holds its initial speed
 (usually 0: standing) until its trigger fires (at a time; when the ego's front bumper is within a distance, or a
-time-to-arrival at its current speed, of a point; or when the ego has travelled a distance along its route);
+time-to-arrival at its current speed, of a point; when the ego has travelled a distance along its route; or
+when the ego's speed is at or below / at or above a value, or it has stood still for a time, checked at step
+starts);
 from then on it follows its profile open-loop and never reacts to the ego. An optional braking phase starts a
 set time after the trigger: the target speed becomes 0 and the deceleration is limited to its own value.
 A trigger is checked at step starts, but the profile starts at the instant inside the last step when the
@@ -18,7 +20,15 @@ import numpy as np
 
 from vrusim.geometry.path_table import locate_point
 from vrusim.kernels import batch_kernel, prange
-from vrusim.sim.params import TRIGGER_DISTANCE, TRIGGER_ROUTE, TRIGGER_TIME, BatchParams
+from vrusim.sim.params import (
+    TRIGGER_DISTANCE,
+    TRIGGER_ROUTE,
+    TRIGGER_SPEED_ABOVE,
+    TRIGGER_SPEED_BELOW,
+    TRIGGER_STANDSTILL,
+    TRIGGER_TIME,
+    BatchParams,
+)
 from vrusim.sim.state import VruState
 from vrusim.sim.vru.registry import POINT_MASS, attach_vru_step
 
@@ -58,6 +68,7 @@ def advance_vrus(
         vrus.station_m,
         vrus.speed_mps,
         vrus.kinematics,
+        vrus.ego_stopped_at_s,
     )
 
 
@@ -86,6 +97,7 @@ def _advance(
     station,
     speed,
     kin,
+    stopped_at,
 ):  # pragma: no cover
     B, K = station.shape
     for b in prange(B):
@@ -100,6 +112,17 @@ def _advance(
                     started[b, k] = ego_station[b] >= value[b, k] - 1e-9
                     if ego_speed[b] > 0.0:
                         lead = (ego_station[b] - value[b, k]) / ego_speed[b]
+                elif kind[b, k] == TRIGGER_SPEED_BELOW:
+                    started[b, k] = ego_speed[b] <= value[b, k] + 1e-9
+                elif kind[b, k] == TRIGGER_SPEED_ABOVE:
+                    started[b, k] = ego_speed[b] >= value[b, k] - 1e-9
+                elif kind[b, k] == TRIGGER_STANDSTILL:
+                    if ego_speed[b] > 1e-9:
+                        stopped_at[b, k] = np.inf
+                    elif stopped_at[b, k] == np.inf:
+                        stopped_at[b, k] = t
+                    started[b, k] = t >= stopped_at[b, k] + value[b, k] - 1e-9
+                    lead = t - stopped_at[b, k] - value[b, k]
                 else:
                     dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
                     distance = np.sqrt(dx * dx + dy * dy)
