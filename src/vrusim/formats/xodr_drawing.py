@@ -71,8 +71,13 @@ class _Border:
 
 
 def simplified(points: np.ndarray, tolerance_m: float = SIMPLIFY_TOLERANCE_M) -> np.ndarray:
-    """The points [N, 2] kept by Douglas-Peucker: every dropped point lies within `tolerance_m` of the segment
-    between the kept points around it; the ends are always kept."""
+    """The points [N, 2] kept by Douglas-Peucker (`kept_indices`)."""
+    return points[kept_indices(points, tolerance_m)]
+
+
+def kept_indices(points: np.ndarray, tolerance_m: float = SIMPLIFY_TOLERANCE_M) -> np.ndarray:
+    """Indices (ascending) of the points [N, 2] Douglas-Peucker keeps: every dropped point lies within
+    `tolerance_m` of the segment between the kept points around it; the ends are always kept."""
     count = len(points)
     keep = np.zeros(count, dtype=bool)
     keep[[0, count - 1]] = True
@@ -92,7 +97,7 @@ def simplified(points: np.ndarray, tolerance_m: float = SIMPLIFY_TOLERANCE_M) ->
             middle = first + 1 + worst
             keep[middle] = True
             stack += [(first, middle), (middle, last)]
-    return points[keep]
+    return np.flatnonzero(keep)
 
 
 def _rounded(points: np.ndarray) -> list[list[float]]:
@@ -190,13 +195,15 @@ class _RoadSampler:
         opposite = left and right and _carriageway(left[0]) and _carriageway(right[0])
         borders.append(_Border(offset, "centre" if opposite else "edge", section.centre_marks))
 
-        def world(t: np.ndarray) -> np.ndarray:
-            return np.column_stack([x_ref - t * np.sin(heading), y_ref + t * np.cos(heading)])
+        def world(t: np.ndarray, part: slice | np.ndarray = slice(None)) -> np.ndarray:
+            """Points [N, 2] at lateral offsets `t` of the stations `part`."""
+            x, y, h = x_ref[part], y_ref[part], heading[part]
+            return np.column_stack([x - t[part] * np.sin(h), y + t[part] * np.cos(h)])
 
         for border in borders:
             for lo, hi, style in _mark_spans(border.marks, border.kind, start_m, end_m):
                 part = (s >= lo - 1e-9) & (s <= hi + 1e-9)
-                points = _rounded(simplified(world(border.t_m[part])))
+                points = _rounded(simplified(world(border.t_m, part)))
                 if len(points) >= 2:
                     self.lines.append({"kind": border.kind, "style": style, "points": points})
         outer_left = left_borders[-1].t_m if left else offset

@@ -1,8 +1,9 @@
 """An OpenDRIVE road network as plain frozen dataclasses: roads, reference-line geometries, lanes, junctions.
 
 Only what places things on the ground plane is kept (ASAM OpenDRIVE 1.6 / 1.8): the plan view, the lane
-offset, lane sections with lane widths and road mark types (for drawing), road links and junction connections. Lengths in m, angles in rad
-(counter-clockwise from +x), curvatures in 1/m; stations `s` along a road's reference line, `t` to its left.
+offset, lane sections with lane widths and road mark types (for drawing), road links and junction
+connections. Lengths in m, angles in rad (counter-clockwise from +x), curvatures in 1/m; stations `s` along a
+road's reference line, `t` to its left.
 `line` is the line of the file an item was read from (0: not read from a file), for error messages.
 """
 
