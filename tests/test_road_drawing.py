@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -329,3 +330,26 @@ def test_a_figure_of_a_scenario_without_lines_draws_the_layout():
     lines, surfaces = _drawn(fig.axes[0])
     assert lines == [] and surfaces == []
     assert [p for p in fig.axes[0].patches if type(p).__name__ == "Rectangle"]
+
+
+# ------------------------------------------------------------------------------------------ export and sweeps
+
+
+def test_the_export_writes_the_layouts_road_and_notes_the_drawn_one(tmp_path):
+    pytest.importorskip("scenariogeneration")
+    from vrusim.interop.openscenario import DRAWN_ROAD_NOTE, export_openscenario
+
+    scenario = read_xosc(DATA / "junction.xosc")
+    export_openscenario(scenario, tmp_path, "drawn")
+    export_openscenario(scenario.replace(**{"road.lines": None, "road.surfaces": None}), tmp_path, "bare")
+    undated = [re.sub(r'date="[^"]*"', "", (tmp_path / f"{stem}.xodr").read_text()) for stem in ("drawn", "bare")]
+    assert undated[0] == undated[1]
+    assert DRAWN_ROAD_NOTE in (tmp_path / "drawn.xosc").read_text()
+    assert "vrusim_road" not in (tmp_path / "bare.xosc").read_text()
+
+
+def test_a_distribution_sweep_keeps_no_drawn_road():
+    from vrusim.sweep.xosc_sweep import distribution_sweep
+
+    plan = distribution_sweep(Path(__file__).parent / "data" / "xosc" / "distribution" / "cpna_10x3.xosc").plan
+    assert all(set(base["road"]) == {"layout", "lane_width_m", "length_m"} for base in plan.bases.values())
