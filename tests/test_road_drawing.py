@@ -353,3 +353,16 @@ def test_a_distribution_sweep_keeps_no_drawn_road():
 
     plan = distribution_sweep(Path(__file__).parent / "data" / "xosc" / "distribution" / "cpna_10x3.xosc").plan
     assert all(set(base["road"]) == {"layout", "lane_width_m", "length_m"} for base in plan.bases.values())
+
+
+def test_gym_frames_draw_the_drawn_road():
+    pytest.importorskip("gymnasium")
+    from vrusim.gym.env import VruEnv
+
+    scenario = read_xosc(DATA / "junction.xosc")
+    frames = []
+    for case in (scenario, scenario.replace(**{"road.lines": None, "road.surfaces": None})):
+        env = VruEnv(case, render_mode="rgb_array")
+        env.reset(seed=0)
+        frames.append(env.render())
+    assert frames[0].shape == frames[1].shape and not np.array_equal(frames[0], frames[1])
