@@ -11,7 +11,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-import yaml
 from rich.markup import escape
 
 from vrusim.cli.options import JsonOption, LenientOption, file_option
@@ -20,12 +19,13 @@ from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_file
 from vrusim.scenario.schema import Scenario
+from vrusim.scenario.yaml_text import scenario_yaml
 from vrusim.version import __version__
 
 
 def scenario_yaml_text(scenario: Scenario, source: str) -> str:
     """The scenario as YAML (fields that differ from the defaults), under a comment naming where it came from."""
-    body = yaml.safe_dump(scenario.model_dump(mode="json", exclude_defaults=True), sort_keys=False, allow_unicode=True)
+    body = scenario_yaml(scenario.model_dump(mode="json", exclude_defaults=True))
     head = f"# Imported from {source} by vrusim {__version__} (planner, sensor, V2X, time step: vrusim's defaults)\n"
     return head + body
 

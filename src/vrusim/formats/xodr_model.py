@@ -1,8 +1,9 @@
 """An OpenDRIVE road network as plain frozen dataclasses: roads, reference-line geometries, lanes, junctions.
 
 Only what places things on the ground plane is kept (ASAM OpenDRIVE 1.6 / 1.8): the plan view, the lane
-offset, lane sections with lane widths, road links and junction connections. Lengths in m, angles in rad
-(counter-clockwise from +x), curvatures in 1/m; stations `s` along a road's reference line, `t` to its left.
+offset, lane sections with lane widths and road mark types (for drawing), road links and junction
+connections. Lengths in m, angles in rad (counter-clockwise from +x), curvatures in 1/m; stations `s` along a
+road's reference line, `t` to its left.
 `line` is the line of the file an item was read from (0: not read from a file), for error messages.
 """
 
@@ -78,9 +79,18 @@ class Cubic:
 
 
 @dataclass(frozen=True)
+class RoadMark:
+    """A `<roadMark>`: the mark on a lane's outer border from `s_offset_m` (from the section start), e.g. "solid"."""
+
+    s_offset_m: float
+    type: str
+    line: int = 0
+
+
+@dataclass(frozen=True)
 class Lane:
-    """A `<lane>`: id (0 centre, > 0 left, < 0 right of the reference line), type and width records; the lane ids
-    its `<link>` names as predecessors and successors (on the linked road; empty: none given)."""
+    """A `<lane>`: id (0 centre, > 0 left, < 0 right of the reference line), type, width records and road marks;
+    the lane ids its `<link>` names as predecessors and successors (on the linked road; empty: none given)."""
 
     id: int
     type: str
@@ -88,6 +98,7 @@ class Lane:
     line: int = 0
     predecessors: tuple[int, ...] = ()
     successors: tuple[int, ...] = ()
+    marks: tuple[RoadMark, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -98,6 +109,8 @@ class LaneSection:
     left: tuple[Lane, ...]
     right: tuple[Lane, ...]
     line: int = 0
+    centre_marks: tuple[RoadMark, ...] = ()
+    """The road marks of the centre lane (on the border at the lane offset)."""
 
 
 @dataclass(frozen=True)

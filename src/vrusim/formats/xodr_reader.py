@@ -3,8 +3,9 @@
 Reading is safe (`xml_file`: size limit, no DTD or entities). Every element that shapes the ground plan is
 checked: a missing or non-numeric attribute, an unknown geometry kind, a lane `<border>`, a one-sided lane
 section, lane ids that do not count 1, 2, ... outward, a link to a road that does not exist: each is a
-UserInputError naming the file, the line and the element (docs/opendrive_import.md). Elements that do not
-(elevation, road marks, objects, signals, user data) are skipped.
+UserInputError naming the file, the line and the element (docs/opendrive_import.md). A `<roadMark>`'s sOffset
+and type are read for drawing (the same checks). Elements that do not shape the plan (elevation, road mark
+details, objects, signals, user data) are skipped.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from vrusim.formats.xodr_model import (
     ParamPoly3,
     Poly3,
     Road,
+    RoadMark,
     Shape,
     Spiral,
     Straight,
@@ -33,6 +35,21 @@ from vrusim.formats.xodr_model import (
 from vrusim.limits import check_limit
 
 _SHAPES = ("line", "arc", "spiral", "poly3", "paramPoly3")
+ROAD_MARK_TYPES = (
+    "none",
+    "solid",
+    "broken",
+    "solid solid",
+    "solid broken",
+    "broken solid",
+    "broken broken",
+    "botts dots",
+    "grass",
+    "curb",
+    "custom",
+    "edge",
+)
+"""`<roadMark type>` values of ASAM OpenDRIVE 1.6 / 1.8 (e_roadMarkType)."""
 
 
 class _Reader:
@@ -112,6 +129,16 @@ class _Reader:
         contact = self.choice(element, "contactPoint", ("start", "end")) if kind == "road" else None
         return Link(kind, self.text(element, "elementId"), contact)
 
+    def marks(self, lane: Element) -> tuple[RoadMark, ...]:
+        """A lane's `<roadMark>`s: sOffset and type (drawing only; their geometry details are skipped)."""
+        elements = lane.all("roadMark")
+        marks = tuple(
+            RoadMark(self.number(mark, "sOffset"), self.choice(mark, "type", ROAD_MARK_TYPES), mark.line)
+            for mark in elements
+        )
+        _ascending(self, elements, [mark.s_offset_m for mark in marks], "sOffset")
+        return marks
+
     def lane(self, element: Element) -> Lane:
         if element.first("border") is not None:
             raise self.fail(element.first("border"), "is not supported (lane widths only)")  # type: ignore[arg-type]
@@ -123,7 +150,10 @@ class _Reader:
             for tag in ("predecessor", "successor")
         ]
         lane_type = element.attrib.get("type", "none")
-        return Lane(self.integer(element, "id"), lane_type, widths, element.line, tuple(links[0]), tuple(links[1]))
+        return Lane(
+            self.integer(element, "id"), lane_type, widths, element.line, tuple(links[0]), tuple(links[1]),
+            self.marks(element),
+        )  # fmt: skip
 
     def side(self, section: Element, tag: str, sign: int) -> tuple[Lane, ...]:
         holder = section.first(tag)
@@ -144,7 +174,11 @@ class _Reader:
         if [lane.attrib.get("id") for lane in centre.all("lane")] != ["0"]:
             raise self.fail(centre, "needs exactly one <lane> with id 0")
         return LaneSection(
-            self.number(element, "s"), self.side(element, "left", 1), self.side(element, "right", -1), element.line
+            self.number(element, "s"),
+            self.side(element, "left", 1),
+            self.side(element, "right", -1),
+            element.line,
+            self.marks(centre.all("lane")[0]),
         )
 
     def road(self, element: Element) -> Road:

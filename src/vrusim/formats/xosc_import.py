@@ -24,7 +24,7 @@ from vrusim.formats.xosc_distribution import DISTRIBUTION_TAG, is_distribution
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_entities import read_entities
 from vrusim.formats.xosc_notes import ImportNotes
-from vrusim.formats.xosc_road import road_fields
+from vrusim.formats.xosc_road import drawn_road_fields, road_fields
 from vrusim.formats.xosc_scenario import ScenarioBuilder
 from vrusim.formats.xosc_storyboard import read_storyboard
 from vrusim.scenario.loading import scenario_from_mapping
@@ -80,10 +80,15 @@ class XoscImport:
 
 
 def parse_root(
-    root: Element, path: Path, parameters: dict[str, str] | None = None, notes: ImportNotes | None = None
+    root: Element,
+    path: Path,
+    parameters: dict[str, str] | None = None,
+    notes: ImportNotes | None = None,
+    drawing: bool = True,
 ) -> Scenario:
     """The scenario of an OpenSCENARIO document (root element), read from `path`; `parameters` (name -> value
-    text) replace the values of the file's parameter declarations; ignored elements go to `notes`."""
+    text) replace the values of the file's parameter declarations; ignored elements go to `notes`. `drawing`:
+    the road keeps the network's drawn lines and surfaces (`xosc_road.drawn_road_fields`)."""
     doc = XoscDocument(str(path), parameters)
     if root.tag != "OpenSCENARIO":
         raise doc.fail(root, "is not an OpenSCENARIO document (expected <OpenSCENARIO>)")
@@ -102,7 +107,8 @@ def parse_root(
     entities = read_entities(doc, doc.child(root, "Entities"))
     story = read_storyboard(doc, doc.child(root, "Storyboard"), network, {e.name for e in entities}, notes)
     data = ScenarioBuilder(doc, entities, story).mapping()
-    data = {"name": name, "description": description, "road": road_fields(network)} | data
+    road = drawn_road_fields(network, notes.warnings if notes else None) if drawing else road_fields(network)
+    data = {"name": name, "description": description, "road": road} | data
     return scenario_from_mapping(data, str(path))
 
 

@@ -258,6 +258,8 @@ def openscenario_document(scenario: Scenario, road_file: str) -> xosc.Scenario:
     params, init, notes = _Parameters(), xosc.Init(), xosc.Properties()
     notes.add_property("vrusim_version", __version__)
     notes.add_property("vrusim_scenario", scenario.name)
+    if scenario.road.lines is not None or scenario.road.surfaces is not None:
+        notes.add_property("vrusim_road", DRAWN_ROAD_NOTE)
     entities = xosc.Entities()
     entities.add_scenario_object(EGO, ego_vehicle(scenario.ego))
     act = xosc.Act("vrusim_act", _at_time("act_start", 0.0))
@@ -290,8 +292,16 @@ def openscenario_document(scenario: Scenario, road_file: str) -> xosc.Scenario:
     )
 
 
+DRAWN_ROAD_NOTE = (
+    "road.lines and road.surfaces (an imported road, drawn only) are not exported; the road is the layout's"
+)
+"""Header property `vrusim_road` of the export of a scenario with a drawn road."""
+
+
 def opendrive_document(scenario: Scenario) -> xodr.OpenDrive:
-    """The OpenDRIVE road of a scenario (see `interop.opendrive`)."""
+    """The OpenDRIVE road of a scenario (see `interop.opendrive`): always its `layout`. A drawn road
+    (`road.lines`, `road.surfaces`, e.g. of an imported network) is not written back: it holds polylines, not
+    an OpenDRIVE network; the header property `vrusim_road` says so."""
     return road_network(scenario.road, road_half_length_m(scenario), file_stem(scenario.name))
 
 

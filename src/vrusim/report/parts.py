@@ -5,10 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from vrusim.metrics.catalog import get_metric, metrics
 from vrusim.report.html import Column, Html, pre, table, tag
+from vrusim.scenario import yaml_text
 from vrusim.scenario.schema import Scenario
 from vrusim.viz.sensitivity import unit_of
 
@@ -75,7 +74,7 @@ def transitions_table(element_id: str, row: dict[str, Any]) -> Html:
 
 def scenario_yaml(scenario: Scenario) -> str:
     """The resolved scenario (every default filled in) as YAML."""
-    return yaml.safe_dump(scenario.model_dump(mode="json"), sort_keys=False, allow_unicode=True)
+    return yaml_text.scenario_yaml(scenario.model_dump(mode="json"))
 
 
 def parameters(scenario: Scenario, file: Path | None, heading: str | None = None) -> Html:

@@ -9,12 +9,20 @@ from __future__ import annotations
 import math
 from typing import Any, Literal, Self
 
-from pydantic import Field, ValidatorFunctionWrapHandler, field_validator, model_validator
+from pydantic import (
+    Field,
+    SerializerFunctionWrapHandler,
+    ValidatorFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from vrusim.scenario.bounds import path_length_excess
 from vrusim.scenario.door import Door
 from vrusim.scenario.driver import Driver
 from vrusim.scenario.field_paths import replaced
+from vrusim.scenario.road_lines import RoadLine, RoadSurface, points_excess
 from vrusim.scenario.score_profiles import MAX_CLEARANCE_THRESHOLD_M
 from vrusim.scenario.strict import StrictModel, the_one_given
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
@@ -48,11 +56,32 @@ class Pose(Point):
 
 
 class Road(StrictModel):
-    """Road layout, centred on the world origin. Lanes are two-way: traffic keeps right."""
+    """Road layout, centred on the world origin. Lanes are two-way: traffic keeps right.
+
+    `lines` / `surfaces` (optional, `vrusim.scenario.road_lines`): the drawn road of an imported network; figures
+    draw them instead of the layout. Left out of a dump when not set, so scenarios without them dump as before.
+    """
 
     layout: Literal["straight", "intersection"] = "straight"
     lane_width_m: float = Field(3.5, gt=0)
     length_m: float = Field(200.0, gt=0, description="drawn length of each road arm pair, m")
+    lines: list[RoadLine] | None = Field(None, description="drawn road lines (imported roads); None: the layout's")
+    surfaces: list[RoadSurface] | None = Field(None, description="drawn paved areas (imported roads)")
+
+    @model_validator(mode="after")
+    def _point_budget(self) -> Self:
+        reason = points_excess(self.lines, self.surfaces)
+        if reason is not None:
+            raise ValueError(f"lines and surfaces: {reason}")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_unset_drawing(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        data = handler(self)
+        for name in ("lines", "surfaces"):
+            if getattr(self, name) is None:
+                data.pop(name, None)
+        return data
 
 
 class Route(StrictModel):

@@ -35,9 +35,10 @@ def _typed(values: list[str]) -> tuple[Any, ...]:
 
 
 def variants(sets: ParameterSets) -> list[Scenario]:
-    """The scenario of each parameter set (the scenario file's XML read once)."""
+    """The scenario of each parameter set (the scenario file's XML read once; runs draw no road, so the bases
+    carry no drawn road lines)."""
     root, path = read_xosc_root(sets.scenario_file)
-    return [parse_root(root, path, values) for values in iter_sets(sets)]
+    return [parse_root(root, path, values, drawing=False) for values in iter_sets(sets)]
 
 
 def distribution_sweep(path: str | Path, seed: int | None = None, batch_size: int | None = None) -> PlannedSweep:

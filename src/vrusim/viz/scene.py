@@ -1,10 +1,10 @@
 """A bird's-eye picture of one recording at one time, in the style of the paper's snapshot figures.
 
-Road and lane markings, obstruction vehicles, the roadside unit with its V2X ranges (V2X enabled only), planned
-ego route and VRU paths (dashed), travelled trajectories up to t, the sensor sector (blue, translucent, apex at
-the centre of the leading bumper, cut where obstacles block the line of sight), the ego rectangle with a
-heading mark, VRU circles at their footprint radius (ring: perceived by the sensor, blue; by V2X, purple
-dashed), an impact star and a time label.
+Road and lane markings (the generated layout, or an imported road's own lines: `viz.road_lines`), obstruction
+vehicles, the roadside unit with its V2X ranges (V2X enabled only), planned ego route and VRU paths (dashed),
+travelled trajectories up to t, the sensor sector (blue, translucent, apex at the centre of the leading bumper,
+cut where obstacles block the line of sight), the ego rectangle with a heading mark, VRU circles at their
+footprint radius (ring: perceived by the sensor, blue; by V2X, purple dashed), an impact star and a time label.
 
 `SceneArtists` builds every artist once; `update(index)` moves the moving ones to a trace sample, so an
 animation redraws without rebuilding. World frame, metres, equal aspect.
@@ -26,6 +26,7 @@ from vrusim.scenario.schema import Road, Scenario
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X
 from vrusim.viz import style
 from vrusim.viz.recording import Recording
+from vrusim.viz.road_lines import draw_road_lines, has_drawn_road
 
 # z-order of the layers, bottom to top
 _Z_ROAD, _Z_MARK, _Z_RANGE, _Z_PATH, _Z_SECTOR, _Z_BODY, _Z_RING, _Z_TOP = 0, 1, 2, 3, 4, 5, 6, 7
@@ -98,8 +99,9 @@ def view_window(
         if scenario.v2x.enabled and scenario.v2x.rsu is not None:
             xs.append(np.array([scenario.v2x.rsu.x_m]))
             ys.append(np.array([scenario.v2x.rsu.y_m]))
-        road = scenario.road.lane_width_m + 1.0
-        ys.append(np.array([-road, road]))
+        if not has_drawn_road(scenario.road):  # the layout's cross section (an imported road: the actors frame it)
+            road = scenario.road.lane_width_m + 1.0
+            ys.append(np.array([-road, road]))
     x = np.concatenate(xs)
     y = np.concatenate(ys)
     x0, x1 = float(x.min()) - margin_m, float(x.max()) + margin_m
@@ -124,7 +126,11 @@ def view_window(
 
 
 def _draw_road(ax: Axes, road: Road) -> None:
-    """Road surface, edge lines and dashed centre line(s); a four-arm junction centred on the origin."""
+    """Road surface, edge lines and dashed centre line(s); a four-arm junction centred on the origin. A road with
+    its own lines or surfaces (imported) is drawn from them instead (`viz.road_lines`)."""
+    if has_drawn_road(road):
+        draw_road_lines(ax, road, _Z_ROAD, _Z_MARK)
+        return
     w, half = road.lane_width_m, road.length_m / 2
     mark = {"color": style.MARKING, "zorder": _Z_MARK, "solid_capstyle": "butt"}
     dashed = {**mark, "lw": 1.0, "dashes": (6, 6)}
