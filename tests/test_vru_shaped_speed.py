@@ -110,16 +110,22 @@ def test_a_brake_during_the_start_follows_the_shape_from_the_speed_then(make_sce
         {"ego_route_m": 17.3},
         {"ego_distance_m": 12.0, "point": {"x_m": 40.0, "y_m": 0.0}},
         {"ego_time_to_arrival_s": 1.1, "point": {"x_m": 45.0, "y_m": 0.0}},
+        {"ego_speed_above_mps": 100.0},
+        {"ego_speed_below_mps": 100.0},
     ],
-    ids=["time", "route", "distance", "time to arrival"],
+    ids=["time", "route", "distance", "time to arrival", "speed above (never)", "speed below (at once)"],
 )
 def test_triggers_fire_as_for_the_point_mass(make_scenario, trigger):
     """After a change the shaped and linear ramps have covered the same distance, so started at the same instant
     they are at the same place; before the trigger all hold the initial speed (one model per batch: three runs)."""
     fields = {"initial_speed_mps": 0.3, "top_speed_mps": 1.8, "max_accel_mps2": 1.5, "trigger": trigger}
     traces = [_traces(make_scenario, [_vru(m, **fields)], 6.0) for m in ("point_mass", CUBIC, SINUSOIDAL)]
-    assert all(abs(_walked(trace, 0.5) - 0.15) < 1e-9 for trace in traces)
+    if "ego_speed_below_mps" not in trigger:  # met at once: no wait
+        assert all(abs(_walked(trace, 0.5) - 0.15) < 1e-9 for trace in traces)
     linear, cubic, sine = (_walked(trace, 6.0) for trace in traces)
+    if "ego_speed_above_mps" in trigger:  # never met: all hold the initial speed
+        assert all(abs(_walked(trace, 6.0) - 0.3 * 6.0) < 1e-9 for trace in traces)
+        return
     assert linear > 2.0 and abs(cubic - linear) < 1e-3 and abs(sine - linear) < 1e-3
 
 

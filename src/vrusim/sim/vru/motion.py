@@ -20,17 +20,10 @@ import numpy as np
 
 from vrusim.geometry.path_table import locate_point
 from vrusim.kernels import batch_kernel, prange
-from vrusim.sim.params import (
-    TRIGGER_DISTANCE,
-    TRIGGER_ROUTE,
-    TRIGGER_SPEED_ABOVE,
-    TRIGGER_SPEED_BELOW,
-    TRIGGER_STANDSTILL,
-    TRIGGER_TIME,
-    BatchParams,
-)
+from vrusim.sim.params import BatchParams
 from vrusim.sim.state import VruState
 from vrusim.sim.vru.registry import POINT_MASS, attach_vru_step
+from vrusim.sim.vru.triggers import fire_trigger
 
 
 def advance_vrus(
@@ -104,30 +97,9 @@ def _advance(
         for k in range(K):
             step = dt
             if not started[b, k]:
-                lead = 0.0  # how long ago, inside the last step, the condition was met
-                if kind[b, k] == TRIGGER_TIME:
-                    started[b, k] = t >= value[b, k] - 1e-9
-                    lead = t - value[b, k]
-                elif kind[b, k] == TRIGGER_ROUTE:
-                    started[b, k] = ego_station[b] >= value[b, k] - 1e-9
-                    if ego_speed[b] > 0.0:
-                        lead = (ego_station[b] - value[b, k]) / ego_speed[b]
-                elif kind[b, k] == TRIGGER_SPEED_BELOW:
-                    started[b, k] = ego_speed[b] <= value[b, k] + 1e-9
-                elif kind[b, k] == TRIGGER_SPEED_ABOVE:
-                    started[b, k] = ego_speed[b] >= value[b, k] - 1e-9
-                elif kind[b, k] == TRIGGER_STANDSTILL:
-                    if ego_speed[b] > 1e-9:
-                        stopped_at[b, k] = np.inf
-                    elif stopped_at[b, k] == np.inf:
-                        stopped_at[b, k] = t
-                    started[b, k] = t >= stopped_at[b, k] + value[b, k] - 1e-9
-                    lead = t - stopped_at[b, k] - value[b, k]
-                else:
-                    dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
-                    distance = np.sqrt(dx * dx + dy * dy)
-                    limit = value[b, k] if kind[b, k] == TRIGGER_DISTANCE else value[b, k] * ego_speed[b]
-                    started[b, k] = distance <= limit
+                started[b, k], lead = fire_trigger(
+                    kind, value, point_x, point_y, b, k, t, front_x, front_y, ego_speed, ego_station, stopped_at
+                )
                 if started[b, k]:
                     # start the profile where the trigger was met, not at the step boundary: back up to that
                     # instant at the initial speed and integrate this step over dt + lead

@@ -1,7 +1,7 @@
 """The compiled step of the shaped VRU motion models `cubic` and `sinusoidal` (`vrusim.sim.vru.shaped`).
 
-Triggers fire as for `point_mass` (`vrusim.sim.vru.motion`): checked at step starts, a time or route trigger backs
-the start up to the instant inside the last step when its condition was met. From the start the speed is a
+Triggers fire as for `point_mass` (the shared `vrusim.sim.vru.triggers`): checked at step starts, a time or route
+trigger backs the start up to the instant inside the last step when its condition was met. From the start the speed is a
 closed-form function of the time since the start: the change from the initial to the top speed over
 T = |v1 - v0| / a (a: the mean rate, `max_accel_mps2`), then, `brake_after_s` after the start (exactly, also inside
 a step), the same shape from the speed then to 0 over v_b / the mean deceleration. The station advances by the
@@ -16,10 +16,11 @@ import numpy as np
 
 from vrusim.geometry.path_table import locate_point
 from vrusim.kernels import batch_kernel, njit, prange
-from vrusim.sim.params import TRIGGER_DISTANCE, TRIGGER_ROUTE, TRIGGER_TIME, BatchParams
+from vrusim.sim.params import BatchParams
 from vrusim.sim.state import VruState
 from vrusim.sim.vru.registry import attach_vru_step
 from vrusim.sim.vru.shaped import SHAPE_CODES
+from vrusim.sim.vru.triggers import fire_trigger
 
 _CUBIC = SHAPE_CODES["cubic"]
 
@@ -93,6 +94,7 @@ def _advance_with(shape: int):
             vrus.station_m,
             vrus.speed_mps,
             vrus.kinematics,
+            vrus.ego_stopped_at_s,
         )
 
     return advance_vrus
@@ -123,25 +125,16 @@ def _advance(
     station,
     speed,
     kin,
+    stopped_at,
 ):  # pragma: no cover
     B, K = station.shape
     for b in prange(B):
         for k in range(K):
             since = 0.0  # time since the start at this step's start, s
             if not started[b, k]:
-                lead = 0.0  # how long ago, inside the last step, the condition was met
-                if kind[b, k] == TRIGGER_TIME:
-                    started[b, k] = t >= value[b, k] - 1e-9
-                    lead = t - value[b, k]
-                elif kind[b, k] == TRIGGER_ROUTE:
-                    started[b, k] = ego_station[b] >= value[b, k] - 1e-9
-                    if ego_speed[b] > 0.0:
-                        lead = (ego_station[b] - value[b, k]) / ego_speed[b]
-                else:
-                    dx, dy = point_x[b, k] - front_x[b], point_y[b, k] - front_y[b]
-                    distance = np.sqrt(dx * dx + dy * dy)
-                    limit = value[b, k] if kind[b, k] == TRIGGER_DISTANCE else value[b, k] * ego_speed[b]
-                    started[b, k] = distance <= limit
+                started[b, k], lead = fire_trigger(
+                    kind, value, point_x, point_y, b, k, t, front_x, front_y, ego_speed, ego_station, stopped_at
+                )
                 if started[b, k]:
                     # the profile starts where the trigger was met: back up to that instant at the initial speed
                     lead = min(max(lead, 0.0), dt)
