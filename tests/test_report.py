@@ -199,3 +199,14 @@ def test_a_failed_build_keeps_the_old_report(tmp_path):
     (tmp_path / "bad.yaml").write_text("name: x\n")
     assert_user_error(invoke("report", tmp_path / "bad.yaml", "--out", out), "bad.yaml")
     assert out.read_text() == "old" and _leftovers(tmp_path) == ["bad.yaml", "r.html"]
+
+
+def test_run_report_of_an_openscenario_file(tmp_path):
+    """A .xosc SOURCE is a scenario like a YAML file: the report holds the same numbers as `vrusim run`."""
+    source = REPO_ROOT / "tests" / "data" / "xosc" / "roads" / "junction.xosc"
+    out = tmp_path / "r.html"
+    result = invoke("report", source, "--out", out)
+    assert result.exit_code == 0, result.output
+    results = json.loads(read_report(out.read_text(encoding="utf-8")).results_text)
+    row = json.loads(invoke("run", source, "--json").stdout)
+    assert results["kind"] == "run" and results["row"] == row

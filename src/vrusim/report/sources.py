@@ -14,15 +14,14 @@ from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_name
 from vrusim.report.page import Report, render
-from vrusim.sources import is_bundled_name, scenario_file, single_test
+from vrusim.sources import SCENARIO_FILE_SUFFIXES, is_bundled_name, scenario_file, single_test
 
-SCENARIO_SUFFIXES = (".yaml", ".yml")
 REPORT_SUFFIXES = (".html", ".htm")
 NCAP_RESULTS = "results.parquet"
 SWEEP_MANIFEST = "manifest.json"
 EXPECTED = (
-    "a scenario .yaml file, a bundled scenario (`vrusim examples`), a Euro NCAP test id, the word 'paper', a "
-    "`vrusim ncap --out` folder or a sweep results folder"
+    "a scenario file (.yaml, or OpenSCENARIO .xosc), a bundled scenario (`vrusim examples`), a Euro NCAP test "
+    "id, the word 'paper', a `vrusim ncap --out` folder or a sweep results folder"
 )
 
 
@@ -44,7 +43,7 @@ def source_kind(source: str, argument: str = "SOURCE") -> SourceKind:
         return SourceKind.run
     path = check_name(source, argument)  # a null byte or a name too long: not a file, not an id
     if not path.exists():
-        if path.suffix.lower() in SCENARIO_SUFFIXES:
+        if path.suffix.lower() in SCENARIO_FILE_SUFFIXES:
             raise UserInputError(f"{argument}: {source} not found; expected {EXPECTED}")
         single_test(source, EXPECTED)  # a catalogue test id, or a user error with close ids
         return SourceKind.run
@@ -57,9 +56,9 @@ def source_kind(source: str, argument: str = "SOURCE") -> SourceKind:
             f"{argument}: folder {source} has neither {SWEEP_MANIFEST} (a sweep results folder) nor "
             f"{NCAP_RESULTS} (a `vrusim ncap --out` folder)"
         )
-    if path.suffix.lower() in SCENARIO_SUFFIXES:
+    if path.suffix.lower() in SCENARIO_FILE_SUFFIXES:
         return SourceKind.run
-    raise UserInputError(f"{argument}: {source} is not a scenario file (.yaml or .yml); expected {EXPECTED}")
+    raise UserInputError(f"{argument}: {source} is not a scenario file (.yaml, .yml or .xosc); expected {EXPECTED}")
 
 
 def check_output(path: Path, option: str = "--out") -> None:
