@@ -15,6 +15,7 @@ from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.formats.xosc_import import import_xosc, read_xosc
 from vrusim.sources import apply_planner_and_seed
+from xosc_helpers import refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "actions"
 EGO_X0_M = -28.85
@@ -59,18 +60,6 @@ def _edited(tmp_path: Path, name: str, old: str, new: str) -> Path:
     assert old in text, old
     path.write_text(text.replace(old, new, 1))
     return path
-
-
-def _refused(path: Path, marker: str, *words: str) -> str:
-    """Import `path`: exit 2, the message names the file, the line holding `marker` and `words`."""
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    line = next(n for n, text in enumerate(path.read_text().splitlines(), 1) if marker in text)
-    for word in (path.name, f"line {line}:", *words):
-        assert word in message, (word, message)
-    return message
 
 
 # --------------------------------------------------------------------------------------------- speed dynamics
@@ -158,7 +147,7 @@ def test_lights_are_ignored_and_listed_and_a_night_event_sets_night():
 
 def test_weather_and_controllers_are_errors_unless_lenient(tmp_path):
     path = _copy(tmp_path, "lenient_weather_controller.xosc")
-    _refused(path, "<Weather>", "--lenient")
+    refused_at(path, "<Weather>", "--lenient")
     out = tmp_path / "out.yaml"
     result = invoke("import", str(path), "--out", str(out), "--lenient")
     assert result.exit_code == 0, result.output
@@ -342,7 +331,7 @@ REFUSALS = {
     ("name", "old", "new", "marker", "words"), [(*r[:4], r[4:]) for r in REFUSALS.values()], ids=list(REFUSALS)
 )
 def test_an_unrepresentable_construct_is_refused_with_its_line(tmp_path, name, old, new, marker, words):
-    _refused(_edited(tmp_path, name, old, new), marker, *words)
+    refused_at(_edited(tmp_path, name, old, new), marker, *words)
 
 
 def test_an_ego_step_at_time_zero_is_its_initial_speed(tmp_path):

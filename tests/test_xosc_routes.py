@@ -16,7 +16,6 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.special import fresnel
 
-from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.formats.xml_file import parse_xml
 from vrusim.formats.xodr_reader import read_xodr
@@ -27,6 +26,7 @@ from vrusim.formats.xosc_model import WorldPose
 from vrusim.formats.xosc_relative_positions import relative_lane_id
 from vrusim.formats.xosc_route_action import route_shape
 from vrusim.sources import apply_planner_and_seed
+from xosc_helpers import refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "routes"
 TIME_TOL_S, DISTANCE_TOL_M = 0.01, 0.02
@@ -74,18 +74,6 @@ def _edited(tmp_path: Path, name: str, old: str, new: str) -> Path:
     else:
         path.write_text(text.replace(old, new, 1))
     return path
-
-
-def _refused(path: Path, marker: str, *words: str) -> str:
-    """Import `path`: exit 2, no traceback; the message names the file, the line holding `marker` and `words`."""
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    line = next(n for n, text in enumerate(path.read_text().splitlines(), 1) if marker in text)
-    for word in (path.name, f"line {line}:", *words):
-        assert word in message, (word, message)
-    return message
 
 
 # --------------------------------------------------------------------------------------------- routes
@@ -289,7 +277,7 @@ def test_a_timed_spline_from_t_0_starts_at_its_speed(tmp_path):
     assert (vru.initial_speed_mps, vru.top_speed_mps) == pytest.approx((2.5, 2.5), abs=1e-3)  # 20 m in 8 s
     uneven = path.read_text().replace('timeStart="4"', 'timeStart="3"')
     path.write_text(uneven)
-    _refused(path, 'timeStart="0"', "<ClothoidSplineSegment>", "one constant speed")  # the first one off its time
+    refused_at(path, 'timeStart="0"', "<ClothoidSplineSegment>", "one constant speed")  # the first one off its time
 
 
 def test_an_ego_timed_at_its_cruise_speed_is_accepted():
@@ -299,14 +287,14 @@ def test_an_ego_timed_at_its_cruise_speed_is_accepted():
 
 def test_timing_off_one_speed_is_refused_naming_the_vertex(tmp_path):
     path = _edited(tmp_path, "vru_timing.xosc", 'time="1.5"', 'time="1.2"')
-    _refused(path, 'time="1.2"', "<Vertex>", "one constant speed")
+    refused_at(path, 'time="1.2"', "<Vertex>", "one constant speed")
 
 
-def test_an_ego_timed_off_its_cruise_speed_is_refused(tmp_path):
+def test_an_ego_timed_off_its_cruise_speed_isrefused_at(tmp_path):
     path = _edited(
         tmp_path, "ego_timing.xosc", '<AbsoluteTargetSpeed value="10.0"/>', '<AbsoluteTargetSpeed value="12.0"/>'
     )
-    _refused(path, 'time="7"', "<Vertex>", "cruise speed")
+    refused_at(path, 'time="7"', "<Vertex>", "cruise speed")
 
 
 @pytest.mark.parametrize(
@@ -318,10 +306,10 @@ def test_an_ego_timed_off_its_cruise_speed_is_refused(tmp_path):
     ],
 )
 def test_timing_refusals(tmp_path, old, new, marker, words):
-    _refused(_edited(tmp_path, "vru_timing.xosc", old, new), marker, *words)
+    refused_at(_edited(tmp_path, "vru_timing.xosc", old, new), marker, *words)
 
 
-def test_a_timed_vru_with_speed_events_is_refused(tmp_path):
+def test_a_timed_vru_with_speed_events_isrefused_at(tmp_path):
     path = _copy(tmp_path, "vru_timing.xosc")
     text = path.read_text()
     event = text.index('<Event name="vru0_move"')
@@ -331,7 +319,7 @@ def test_a_timed_vru_with_speed_events_is_refused(tmp_path):
     </SpeedAction></LongitudinalAction></PrivateAction></Action>"""
     anchor = text.index("<Action ", event)
     path.write_text(text[:anchor] + speed + text[anchor:])
-    _refused(path, '<Action name="walk">', "timed trajectory")
+    refused_at(path, '<Action name="walk">', "timed trajectory")
 
 
 # --------------------------------------------------------------------------------------------- relative positions
@@ -379,7 +367,7 @@ def test_relative_lanes_skip_the_centre_lane(lane, d_lane, expected):
     ],
 )
 def test_relative_position_refusals(tmp_path, old, new, marker, words):
-    _refused(_edited(tmp_path, "relative_positions.xosc", old, new), marker, *words)
+    refused_at(_edited(tmp_path, "relative_positions.xosc", old, new), marker, *words)
 
 
 # --------------------------------------------------------------------------------------------- refusals
@@ -471,10 +459,10 @@ def test_relative_position_refusals(tmp_path, old, new, marker, words):
     ],
 )
 def test_refusals_name_the_element_and_its_line(tmp_path, name, old, new, marker, words):
-    _refused(_edited(tmp_path, name, old, new), marker, *words)
+    refused_at(_edited(tmp_path, name, old, new), marker, *words)
 
 
-def test_an_ego_clothoid_that_is_not_line_turn_line_is_refused(tmp_path):
+def test_an_ego_clothoid_that_is_not_line_turn_line_isrefused_at(tmp_path):
     path = _copy(tmp_path, "vru_clothoid.xosc")
     text = path.read_text()
     ego_route = text[text.index("<FollowTrajectoryAction>") : text.index("</FollowTrajectoryAction>")]
@@ -482,4 +470,4 @@ def test_an_ego_clothoid_that_is_not_line_turn_line_is_refused(tmp_path):
     clothoid = clothoid.replace('x="0.0" y="-6.0" h="1.5707963267948966"', 'x="-45.0" y="1.75" h="3.141592653589793"')
     shape = ego_route[ego_route.index("<Polyline>") : ego_route.index("</Polyline>") + len("</Polyline>")]
     path.write_text(text.replace(shape, clothoid, 1))
-    _refused(path, "<PrivateAction><RoutingAction>", "ego's trajectory", "clothoid")
+    refused_at(path, "<PrivateAction><RoutingAction>", "ego's trajectory", "clothoid")

@@ -15,12 +15,12 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.formats.xosc_import import read_xosc
 from vrusim.interop.openscenario import export_openscenario
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sources import apply_planner_and_seed
+from xosc_helpers import refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "shapes"
 ACTIONS = Path(__file__).parent / "data" / "xosc" / "actions"
@@ -62,15 +62,8 @@ def _copy(tmp_path: Path, source: Path, old: str = "", new: str = "") -> Path:
 
 
 def _refused(path: Path, marker: str, *words: str) -> str:
-    """Import `path`: exit 2, no traceback; the message names the file, the line of the last `marker` and `words`."""
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    line = [n for n, text in enumerate(path.read_text().splitlines(), 1) if marker in text][-1]
-    for word in (path.name, f"line {line}:", *words):
-        assert word in message, (word, message)
-    return message
+    """The refusal naming the file, the line of the last `marker` and `words`."""
+    return refused_at(path, marker, *words, last=True)
 
 
 # --------------------------------------------------------------------------------------------- supported

@@ -20,7 +20,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cli_helpers import invoke
 from fuzz_inputs import mutated_xml
 from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
@@ -29,6 +28,7 @@ from vrusim.formats.xosc_import import read_xosc
 from vrusim.formats.xosc_sync_profile import ProfileError, solve_profile
 from vrusim.scenario.schema import Ego
 from vrusim.sources import apply_planner_and_seed
+from xosc_helpers import refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "synchronize"
 REAR_TO_CENTRE_M = 1.35
@@ -73,18 +73,6 @@ def _edited(tmp_path: Path, name: str, *pairs: tuple[str, str]) -> Path:
         text = text.replace(old, new, 1)
     path.write_text(text)
     return path
-
-
-def _refused(path: Path, marker: str, *words: str) -> str:
-    """Import `path`: exit 2, no traceback, the message names the file, the line holding `marker` and `words`."""
-    result = invoke("import", str(path), "--out", str(path.with_suffix(".yaml")))
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    message = " ".join(result.output.split())
-    line = next(n for n, text in enumerate(path.read_text().splitlines(), 1) if marker in text)
-    for word in (path.name, f"line {line}:", *words):
-        assert word in message, (word, message)
-    return message
 
 
 # --------------------------------------------------------------------------------------------- synchronised arrival
@@ -150,7 +138,7 @@ def test_a_tolerance_moves_the_targets_to_where_they_are_first_within_it():
     steady=st.floats(0.0, 4.39),
     v0=st.sampled_from([0.0, 0.5, 1.5]),
 )
-def test_an_imported_profile_arrives_at_time_and_speed_or_is_refused(final, steady, v0):
+def test_an_imported_profile_arrives_at_time_and_speed_or_isrefused_at(final, steady, v0):
     """The imported fields, integrated in closed form, reach 4.39 m at t = 3 s at the final speed, the last
     `steady` m at that speed; or the import is refused at the <FinalSpeed> line."""
     parameters = {"FinalSpeed": repr(final), "SteadyDistance": repr(steady), "VruSpeed": repr(v0)}
@@ -305,7 +293,7 @@ REFUSALS = [
 
 @pytest.mark.parametrize(("name", "pairs", "marker", "words"), REFUSALS)
 def test_an_unrepresentable_construct_is_refused_with_its_line(tmp_path, name, pairs, marker, words):
-    _refused(_edited(tmp_path, name, *pairs), marker, *words)
+    refused_at(_edited(tmp_path, name, *pairs), marker, *words)
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -24,3 +24,13 @@ def refused(path: Path, *words: str) -> str:
     for word in words:
         assert word in message, (word, message)
     return message
+
+
+def refused_at(path: Path, marker: str, *words: str, last: bool = False) -> str:
+    """`vrusim import path`: exit 2, no traceback; the one-line message (returned) names the file, the line holding
+    `marker` (its first, or with `last` its last occurrence) and every word of `words`."""
+    message = refused(path, path.name, *words)
+    lines = [n for n, text in enumerate(path.read_text().splitlines(), 1) if marker in text]
+    line = lines[-1] if last else lines[0]
+    assert f"line {line}:" in message, (line, message)
+    return message
