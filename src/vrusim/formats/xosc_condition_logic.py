@@ -25,8 +25,6 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
-
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_condition_kinds import (
     NEGATED,
@@ -40,9 +38,8 @@ from vrusim.formats.xosc_condition_kinds import (
 from vrusim.formats.xosc_expression import Value
 from vrusim.formats.xosc_model import AnyCondition, Condition, PlaceCondition, WorldPose
 from vrusim.formats.xosc_speed_conditions import Profile, difference, first_time, standstill_time
-from vrusim.formats.xosc_triggers import MAX_SEARCH_POINTS, ON_LINE_M, SEARCH_STEP_M, Fail, TriggerMapper
+from vrusim.formats.xosc_triggers import ON_LINE_M, Fail, TriggerMapper, first_station
 from vrusim.formats.xosc_variables import variable_start
-from vrusim.geometry.paths import path_poses
 from vrusim.scenario.routes import ego_route_spec
 
 NEW_KINDS = {"always", "never", "all", "falling", "speed", "standstill", "variable", "collision"}
@@ -347,34 +344,5 @@ class ConditionMapper(TriggerMapper):
     def leave(self, condition: PlaceCondition, vru: str, entry_m: float) -> float | None:
         """The first route station after `entry_m` where the ego is farther than `condition.value` from the
         point (None: it stays within to the route's end)."""
-        ego = self.known_ego(condition)
-        px, py = self.point(condition, vru)
-        spec = ego_route_spec(ego)
-        front, back, half = ego.length_m - ego.rear_overhang_m, -ego.rear_overhang_m, ego.width_m / 2
-
-        def outside(stations: np.ndarray) -> np.ndarray:
-            x, y, heading, _ = path_poses(spec, stations)
-            dx, dy = px - x, py - y
-            if not condition.freespace:
-                return np.hypot(dx, dy) > condition.value
-            along = np.cos(heading) * dx + np.sin(heading) * dy
-            across = np.abs(-np.sin(heading) * dx + np.cos(heading) * dy)
-            out_x = np.maximum(np.maximum(along - front, back - along), 0.0)
-            return np.hypot(out_x, np.maximum(across - half, 0.0)) > condition.value
-
-        length = ego.route.length_m
-        count = min(MAX_SEARCH_POINTS, max(2, math.ceil((length - entry_m) / SEARCH_STEP_M) + 1))
-        stations = np.linspace(entry_m, length, count)
-        found = np.nonzero(outside(stations))[0]
-        if found.size == 0:
-            return None
-        if found[0] == 0:
-            return entry_m
-        low, high = float(stations[found[0] - 1]), float(stations[found[0]])
-        for _ in range(50):
-            middle = (low + high) / 2
-            if outside(np.array([middle]))[0]:
-                high = middle
-            else:
-                low = middle
-        return high
+        distance = self.route_distance(condition, vru)
+        return first_station(lambda s: distance(s) > condition.value, entry_m, self.known_ego(condition).route.length_m)

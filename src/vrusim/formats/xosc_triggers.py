@@ -158,6 +158,15 @@ class TriggerMapper:
 
     def approach(self, condition: PlaceCondition, vru: str) -> float:
         """The first station of the ego's route (rear axle, m) where it is within `condition.value` of the point."""
+        distance = self.route_distance(condition, vru)
+        station = first_station(lambda s: distance(s) <= condition.value, 0.0, self.known_ego(condition).route.length_m)
+        if station is None:
+            raise self.refuse(condition, f"the ego never comes within {condition.value:g} m along its route")
+        return station
+
+    def route_distance(self, condition: PlaceCondition, vru: str) -> Callable[[np.ndarray], np.ndarray]:
+        """The ego's distance to the condition's point at stations of its route (m -> m): from its reference point
+        (rear axle), or with `freespace` from its bounding box."""
         ego = self.known_ego(condition)
         px, py = self.point(condition, vru)
         spec = ego_route_spec(ego)
@@ -173,21 +182,7 @@ class TriggerMapper:
             out_x = np.maximum(np.maximum(along - front, back - along), 0.0)
             return np.hypot(out_x, np.maximum(across - half, 0.0))
 
-        count = min(MAX_SEARCH_POINTS, max(2, math.ceil(ego.route.length_m / SEARCH_STEP_M) + 1))
-        stations = np.linspace(0.0, ego.route.length_m, count)
-        inside = np.nonzero(distance(stations) <= condition.value)[0]
-        if inside.size == 0:
-            raise self.refuse(condition, f"the ego never comes within {condition.value:g} m along its route")
-        if inside[0] == 0:
-            return 0.0
-        low, high = float(stations[inside[0] - 1]), float(stations[inside[0]])
-        for _ in range(50):
-            middle = (low + high) / 2
-            if distance(np.array([middle]))[0] <= condition.value:
-                high = middle
-            else:
-                low = middle
-        return high
+        return distance
 
     def time_to_arrival(self, condition: PlaceCondition) -> dict[str, object]:
         """`ego_time_to_arrival_s` to a point on the ego's straight route ahead, measured from its front."""
@@ -202,3 +197,23 @@ class TriggerMapper:
         if ego.route.kind != "straight" or abs(across) > ON_LINE_M or along < front:
             raise self.refuse(condition, "a time to collision needs a point ahead of the ego on its straight route")
         return {"ego_time_to_arrival_s": condition.value, "point": {"x_m": condition.x_m, "y_m": condition.y_m}}
+
+
+def first_station(holds: Callable[[np.ndarray], np.ndarray], start_m: float, end_m: float) -> float | None:
+    """The first station in [start_m, end_m] where `holds` (stations -> bools) is true: found on a grid of
+    `SEARCH_STEP_M` (at most `MAX_SEARCH_POINTS` points), then bisected (None: it never holds there)."""
+    count = min(MAX_SEARCH_POINTS, max(2, math.ceil((end_m - start_m) / SEARCH_STEP_M) + 1))
+    stations = np.linspace(start_m, end_m, count)
+    found = np.nonzero(holds(stations))[0]
+    if found.size == 0:
+        return None
+    if found[0] == 0:
+        return start_m
+    low, high = float(stations[found[0] - 1]), float(stations[found[0]])
+    for _ in range(50):
+        middle = (low + high) / 2
+        if holds(np.array([middle]))[0]:
+            high = middle
+        else:
+            low = middle
+    return high
