@@ -19,19 +19,9 @@ from vrusim.formats.xodr_lanes import lane_position, road_position
 from vrusim.formats.xodr_model import Network
 from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import WorldPose
-from vrusim.formats.xosc_relative_positions import RELATIVE_KINDS, relative_position
+from vrusim.formats.xosc_relative_positions import RELATIVE_KINDS, oriented, relative_position
 
 POSITION_KINDS = {"WorldPosition", "LanePosition", "RoadPosition"}
-
-
-def _oriented(doc: XoscDocument, element: Element, heading_rad: float) -> float:
-    orientation = doc.optional(element, "Orientation")
-    if orientation is None:
-        return heading_rad
-    turn = doc.number(orientation, "h", 0.0)
-    if doc.choice(orientation, "type", ("relative", "absolute"), "relative") == "absolute":
-        return turn
-    return heading_rad + turn
 
 
 def read_position(
@@ -59,7 +49,7 @@ def read_position(
         t_m = doc.number(kind, "t")
         poses = _on_road(doc, kind, lambda: road_position(network, road_id, s_m, t_m))
     x, y, heading = (float(np.ravel(value)[0]) for value in poses)
-    return WorldPose(x, y, _oriented(doc, kind, heading))
+    return WorldPose(x, y, oriented(doc, kind, heading))
 
 
 def _on_road(doc: XoscDocument, kind: Element, where: Callable[[], Poses]) -> Poses:

@@ -37,7 +37,9 @@ DS_LANE_STEP_M = 0.01
 """Station step over which a lane's centre line is measured for dsLane, m."""
 
 
-def _heading(doc: XoscDocument, element: Element, reference_rad: float) -> float:
+def oriented(doc: XoscDocument, element: Element, reference_rad: float) -> float:
+    """The heading of a position with an optional `<Orientation h type>` (rad): `reference_rad` without one,
+    turned by h (`relative`, the default) or replaced by it (`absolute`)."""
     orientation = doc.optional(element, "Orientation")
     if orientation is None:
         return reference_rad
@@ -90,15 +92,15 @@ def relative_position(
             dx, dy = doc.number(kind, "dx"), doc.number(kind, "dy")
             cos_h, sin_h = math.cos(ref.heading_rad), math.sin(ref.heading_rad)
             x, y = ref.x_m + dx * cos_h - dy * sin_h, ref.y_m + dx * sin_h + dy * cos_h
-            return WorldPose(x, y, _heading(doc, kind, ref.heading_rad))
+            return WorldPose(x, y, oriented(doc, kind, ref.heading_rad))
         if kind.tag == "RelativeWorldPosition":
             x, y = ref.x_m + doc.number(kind, "dx"), ref.y_m + doc.number(kind, "dy")
-            return WorldPose(x, y, _heading(doc, kind, ref.heading_rad))
+            return WorldPose(x, y, oriented(doc, kind, ref.heading_rad))
         where = project(network, ref.x_m, ref.y_m)
         if kind.tag == "RelativeRoadPosition":
             s, t = where.s_m + doc.number(kind, "ds"), where.t_m + doc.number(kind, "dt")
             x, y, heading = road_position(network, where.road_id, s, t)
-            return WorldPose(float(x[0]), float(y[0]), _heading(doc, kind, float(heading[0])))
+            return WorldPose(float(x[0]), float(y[0]), oriented(doc, kind, float(heading[0])))
         return _relative_lane(doc, kind, network, where)
     except UserInputError as error:
         if str(error).startswith(doc.source):
@@ -122,4 +124,4 @@ def _relative_lane(doc: XoscDocument, kind: Element, network: Network, where: Ro
         s = _along_lane_s(network, where, where.lane_id, doc.number(kind, "dsLane"))
     t = float(lane_centre_t(road, target, s)[0]) + doc.number(kind, "offset", 0.0)
     x, y, heading = road_position(network, road.id, s, t)
-    return WorldPose(float(x[0]), float(y[0]), _heading(doc, kind, float(heading[0])))
+    return WorldPose(float(x[0]), float(y[0]), oriented(doc, kind, float(heading[0])))
