@@ -261,19 +261,42 @@ def mutated_xml(draw: st.DrawFn, text: str) -> str:
     return draw(corrupted_text(text))
 
 
+XOSC_DATA = Path(__file__).parent / "data" / "xosc"
+LOGIC_FILE = re.compile(r'<LogicFile filepath="([^"]+)"')
+
+
+@functools.cache
+def hand_written_pairs() -> tuple[tuple[str, str], ...]:
+    """(`.xosc` text, `.xodr` text) of the hand-written import test files (every supported element; not those that
+    need a catalog folder), each `.xosc` naming its road `fuzz_<n>.xodr`."""
+    pairs = []
+    for path in sorted(XOSC_DATA.glob("*/*.xosc")):
+        text = path.read_text(encoding="utf-8")
+        road = LOGIC_FILE.search(text)
+        if road is None or "<Directory" in text or not (path.parent / road.group(1)).is_file():
+            continue
+        road_text = (path.parent / road.group(1)).read_text(encoding="utf-8")
+        pairs.append((text.replace(road.group(0), f'<LogicFile filepath="{XOSC_STEM}_{len(pairs)}.xodr"'), road_text))
+    return tuple(pairs)
+
+
 def write_input(folder: Path, text: str, suffix: str) -> Path:
-    """Write a drawn input file into `folder` (an `.xosc` with the exported road next to it); its path."""
+    """Write a drawn input file into `folder` (an `.xosc` with the roads it may name next to it); its path."""
     path = folder / (f"{XOSC_STEM}.xosc" if suffix == ".xosc" else f"input{suffix}")
     path.write_text(text, encoding="utf-8", errors="surrogatepass")
     if suffix == ".xosc":
         (folder / f"{XOSC_STEM}.xodr").write_text(exported_pair()[1], encoding="utf-8")
+        for number, (_, road) in enumerate(hand_written_pairs()):
+            (folder / f"{XOSC_STEM}_{number}.xodr").write_text(road, encoding="utf-8")
     return path
 
 
 def xosc_texts() -> st.SearchStrategy[str]:
-    """Malformed (and some still valid) OpenSCENARIO files of the exported pedestrian case (its `.xodr` unchanged
-    next to it)."""
-    return st.deferred(lambda: mutated_xml(exported_pair()[0]))
+    """Malformed (and some still valid) OpenSCENARIO files: the exported pedestrian case, or one of the
+    hand-written import test files (synchronisation, routes, clothoids, conditions, speed shapes, roads), with
+    their `.xodr` unchanged next to them."""
+    seeds = st.deferred(lambda: st.sampled_from((exported_pair()[0], *(x for x, _ in hand_written_pairs()))))
+    return seeds.flatmap(mutated_xml)
 
 
 OPTION_VALUES = (
