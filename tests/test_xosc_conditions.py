@@ -1,7 +1,7 @@
-"""OpenSCENARIO start conditions (issue 19): speed, standstill, AND-ed groups, falling edges, parameter and variable
-conditions, time to collision from the reference point. Hand-written files in tests/data/xosc/conditions/ run
-with planner `none` and checked against analytic motion (<= 0.01 s); the rest is refused naming the element and
-its line."""
+"""OpenSCENARIO start conditions (issue 19): the ego's and a VRU's speed, relative speed, standstill, AND-ed groups,
+falling edges, parameter and variable conditions, time to collision from the reference point (to a position and to a
+standing entity). Hand-written files in tests/data/xosc/conditions/ run with planner `none` and checked against
+analytic motion (<= 0.01 s); the rest is refused naming the element and its line."""
 
 from __future__ import annotations
 
@@ -25,13 +25,15 @@ DATA = Path(__file__).parent / "data" / "xosc" / "conditions"
 VRU_Y0_M = -6.14
 """The VRU's start in every file, m; it walks along -y at 1 m/s once started (a step)."""
 TIME_TOL_S = 0.01
+CHECKED_VRU = {"vru_speed_condition.xosc": 1}
+"""The index of the VRU whose start condition a file checks, where it is not the first."""
 
 
 def _started_at(name: str) -> float:
     """When the VRU started: the time its walked distance extrapolates back to 0, s (planner none)."""
     scenario = apply_planner_and_seed(read_xosc(DATA / name), "none")
     trace = simulate([scenario], trace=True).trace
-    walked = VRU_Y0_M - trace["vru_y_m"].reshape(len(trace["t_s"]), -1)[:, 0]
+    walked = VRU_Y0_M - trace["vru_y_m"].reshape(len(trace["t_s"]), -1)[:, CHECKED_VRU.get(name, 0)]
     moving = np.nonzero(walked > 0.05)[0][0]
     t = float(trace["t_s"][moving + 20])
     return t - float(walked[moving + 20])
@@ -47,6 +49,18 @@ def _started_at(name: str) -> float:
         ("falling_time.xosc", 1.5),
         ("variable.xosc", 2.0),
         ("ttc_reference_point.xosc", (10.0 - 2.0 * 10.0 - -28.85) / 10.0),
+        # vru0 starts at t = 1 s from 0 m/s at 0.5 m/s^2 (to 2 m/s): 1.2 m/s at 1 + 1.2 / 0.5 = 3.4 s; the
+        # condition's delay 0.5 s: vru1 starts at 3.9 s
+        ("vru_speed_condition.xosc", 1.0 + 1.2 / 0.5 + 0.5),
+        # relative speed = the triggering VRU's speed (standing: 0) - the ego's (ASAM 1.3, esmini); 0 - v >= -7
+        # <=> v <= 7; the ego slows from 10 m/s at t = 1 s at (10 - 6) / 2 = 2 m/s^2: 7 m/s at 1 + 3 / 2 = 2.5 s
+        ("relative_speed.xosc", 1.0 + (10.0 - 7.0) / 2.0),
+        # freespace false: the ego's reference point (rear axle, x = -28.85 + 10 t) to the box's (its origin,
+        # x = 15.025, not its box centre 1 m ahead); the box stands, so the closing speed is the ego's 10 m/s:
+        # (15.025 - x) / 10 = 2 at x = -4.975, t = (-4.975 + 28.85) / 10 = 2.3875 s. The trigger fires at the next
+        # step start (2.39 s, models.md: up to one step late); 15.025 keeps that off a mid-step tie, where the
+        # lateness alone would use up the tolerance
+        ("ttc_standing_entity.xosc", (15.025 - 2.0 * 10.0 - -28.85) / 10.0),
     ],
 )
 def test_a_vru_starts_when_its_condition_first_holds(name, start_s):
@@ -62,11 +76,32 @@ def test_a_vru_starts_when_its_condition_first_holds(name, start_s):
         ("and_group.xosc", {"at_time_s": 2.5}),
         ("falling_time.xosc", {"at_time_s": 1.5}),
         ("variable.xosc", {"at_time_s": 2.0}),
+        ("vru_speed_condition.xosc", {"at_time_s": 3.9}),
+        ("relative_speed.xosc", {"ego_speed_below_mps": 7.0}),
+        # the box's reference point moved ahead by the ego's rear-axle-to-front length 1.35 + 4.5 / 2 = 3.6 m
+        ("ttc_standing_entity.xosc", {"ego_time_to_arrival_s": 2.0, "point": {"x_m": 18.625, "y_m": -1.75}}),
     ],
 )
 def test_each_condition_maps_to_its_trigger(name, trigger):
-    got = read_xosc(DATA / name).vrus[0].trigger.model_dump(exclude_none=True)
-    assert got == pytest.approx(trigger)
+    got = read_xosc(DATA / name).vrus[CHECKED_VRU.get(name, 0)].trigger.model_dump(exclude_none=True)
+    assert _flat(got) == pytest.approx(_flat(trigger))
+
+
+def _flat(mapping: dict) -> dict:
+    """A trigger with its `point` as `point.x_m`, `point.y_m` (pytest.approx compares flat mappings)."""
+    return {
+        f"{key}.{inner}" if isinstance(value, dict) else key: part
+        for key, value in mapping.items()
+        for inner, part in (value.items() if isinstance(value, dict) else [(None, value)])
+    }
+
+
+def test_a_vru_speed_condition_holds_in_the_run_when_the_import_resolved_it():
+    """The import resolves vru1's start from vru0's speed profile; the run moves vru0 on that profile."""
+    scenario = apply_planner_and_seed(read_xosc(DATA / "vru_speed_condition.xosc"), "none")
+    trace = simulate([scenario], trace=True).trace
+    speed = trace["vru_speed_mps"].reshape(len(trace["t_s"]), -1)[:, 0]
+    assert float(np.interp(1.0 + 1.2 / 0.5, trace["t_s"], speed)) == pytest.approx(1.2, abs=0.01)
 
 
 @pytest.mark.parametrize(
