@@ -48,10 +48,8 @@ def _started_at(name: str) -> float:
         ("and_group.xosc", 2.5),
         ("falling_time.xosc", 1.5),
         ("variable.xosc", 2.0),
-        (
-            "ttc_reference_point.xosc",
-            (10.025 - 2.0 * 10.0 - -28.85) / 10.0,
-        ),  # off the step grid: a step-start check errs < dt
+        # the point is off the step grid: a check at step starts errs by less than one step
+        ("ttc_reference_point.xosc", (10.025 - 2.0 * 10.0 - -28.85) / 10.0),
         # vru0 starts at t = 1 s from 0 m/s at 0.5 m/s^2 (to 2 m/s): 1.2 m/s at 1 + 1.2 / 0.5 = 3.4 s; the
         # condition's delay 0.5 s: vru1 starts at 3.9 s
         ("vru_speed_condition.xosc", 1.0 + 1.2 / 0.5 + 0.5),
