@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from cli_helpers import invoke
 from vrusim.formats.xosc_import import read_xosc
 from xosc_helpers import edited, refused
 
@@ -142,3 +143,27 @@ def test_a_controller_catalog_isrefused(copy):
         copy, "<VehicleCatalog>", '<ControllerCatalog><Directory path="Catalogs"/></ControllerCatalog><VehicleCatalog>'
     )
     refused(copy, "<ControllerCatalog>", "not supported")
+
+
+TOO_LONG = "a/" * 2100
+"""A name the OS refuses (ENAMETOOLONG): a file name inside a .xosc is looked up, never trusted."""
+
+
+@pytest.mark.parametrize(
+    ("folder", "name", "old", "element"),
+    [
+        ("catalogs", "inline.xosc", 'filepath="road.xodr"', "<LogicFile> filepath"),
+        ("catalogs", "catalogs.xosc", 'path="Catalogs/Vehicles"', "<Directory> path"),
+        ("distribution", "cpna_10x3.xosc", 'filepath="cpna.xosc"', "<ScenarioFile> filepath"),
+    ],
+)
+def test_a_file_name_the_os_cannot_use_is_a_user_error(tmp_path, folder, name, old, element):
+    """Found by the fuzz campaign: `Path.is_file()` raised OSError (File name too long) for such a name."""
+    shutil.copytree(DATA.parent / folder, tmp_path / "case")
+    attribute = old.split("=")[0]
+    path = edited(tmp_path / "case" / name, old, f'{attribute}="{TOO_LONG}"')
+    command = "sweep" if folder == "distribution" else "import"
+    result = invoke(command, str(path), "--out", str(tmp_path / "out.yaml" if command == "import" else tmp_path / "o"))
+    assert result.exit_code == 2, result.output
+    message = " ".join(result.output.split())
+    assert "Traceback" not in message and element in message and "cannot use" in message, message

@@ -71,7 +71,7 @@ class Catalogs:
             doc.children(location, {"Directory"})
             directory = doc.child(location, "Directory")
             name = doc.text(directory, "path")
-            path = (folder / name).resolve()
+            path = doc.named_path(directory, "path", folder, name).resolve()
             if Path(name).is_absolute() or not path.is_relative_to(folder):
                 raise doc.fail(directory, f"path {shown(name)} leads outside the folder of the .xosc; refused")
             if not path.is_dir():

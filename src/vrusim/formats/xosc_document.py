@@ -9,12 +9,14 @@ replace the declared ones. Every failure is a UserInputError naming the file, th
 from __future__ import annotations
 
 import re
+from pathlib import Path
 from typing import Any
 
 from vrusim.errors import UserInputError
 from vrusim.formats.xml_file import Element, attribute_number, shown
 from vrusim.formats.xosc_expression import ExpressionError, Value, evaluate, value_text
 from vrusim.formats.xosc_parameters import convert, parameter_type
+from vrusim.io.paths import check_name
 
 _REFERENCE = re.compile(r"^\$(?:\{([A-Za-z_][A-Za-z0-9_]*)\}|([A-Za-z_][A-Za-z0-9_]*))$")
 
@@ -175,6 +177,11 @@ class XoscDocument:
         if len(parent.children) != 1:
             raise self.fail(parent, f"needs exactly one of <{'>, <'.join(sorted(allowed))}>")
         return parent.children[0]
+
+    def named_path(self, element: Element, attribute: str, base: Path, name: str) -> Path:
+        """`base / name`, a file name read from `attribute` of `element`; a user error at the element when the OS
+        cannot use it as a name (too long, a null byte), rather than an OSError when it is looked up."""
+        return check_name(base / name, f"{self.source}: line {element.line}: <{element.tag}> {attribute}")
 
     def properties(self, parent: Element) -> dict[str, str]:
         """The `<Properties>` of `parent` (name -> value); `<File>` entries are refused."""
