@@ -15,7 +15,7 @@ from cli_helpers import invoke
 from vrusim.engine.simulate import simulate
 from vrusim.formats.xosc_import import import_xosc, read_xosc
 from vrusim.sources import apply_planner_and_seed
-from xosc_helpers import refused_at
+from xosc_helpers import edited, refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "actions"
 EGO_X0_M = -28.85
@@ -55,11 +55,7 @@ def _copy(tmp_path: Path, name: str) -> Path:
 
 
 def _edited(tmp_path: Path, name: str, old: str, new: str) -> Path:
-    path = _copy(tmp_path, name)
-    text = path.read_text()
-    assert old in text, old
-    path.write_text(text.replace(old, new, 1))
-    return path
+    return edited(_copy(tmp_path, name), old, new)
 
 
 # --------------------------------------------------------------------------------------------- speed dynamics

@@ -26,7 +26,7 @@ from vrusim.formats.xosc_model import WorldPose
 from vrusim.formats.xosc_relative_positions import relative_lane_id
 from vrusim.formats.xosc_route_action import route_shape
 from vrusim.sources import apply_planner_and_seed
-from xosc_helpers import refused_at
+from xosc_helpers import edited, refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "routes"
 TIME_TOL_S, DISTANCE_TOL_M = 0.01, 0.02
@@ -63,17 +63,7 @@ def _copy(tmp_path: Path, name: str) -> Path:
 
 def _edited(tmp_path: Path, name: str, old: str, new: str) -> Path:
     """A copy of `name` with the first `old` replaced (the last one when `old` starts with "LAST:")."""
-    path = _copy(tmp_path, name)
-    text = path.read_text()
-    last = old.startswith("LAST:")
-    old = old.removeprefix("LAST:")
-    assert old in text, old
-    if last:
-        head, _, tail = text.rpartition(old)
-        path.write_text(head + new + tail)
-    else:
-        path.write_text(text.replace(old, new, 1))
-    return path
+    return edited(_copy(tmp_path, name), old.removeprefix("LAST:"), new, last=old.startswith("LAST:"))
 
 
 # --------------------------------------------------------------------------------------------- routes

@@ -28,7 +28,7 @@ from vrusim.formats.xosc_import import read_xosc
 from vrusim.formats.xosc_sync_profile import ProfileError, solve_profile
 from vrusim.scenario.schema import Ego
 from vrusim.sources import apply_planner_and_seed
-from xosc_helpers import refused_at
+from xosc_helpers import edited, refused_at
 
 DATA = Path(__file__).parent / "data" / "xosc" / "synchronize"
 REAR_TO_CENTRE_M = 1.35
@@ -67,11 +67,8 @@ def _copy(tmp_path: Path, name: str) -> Path:
 
 def _edited(tmp_path: Path, name: str, *pairs: tuple[str, str]) -> Path:
     path = _copy(tmp_path, name)
-    text = path.read_text()
     for old, new in pairs:
-        assert old in text, old
-        text = text.replace(old, new, 1)
-    path.write_text(text)
+        edited(path, old, new)
     return path
 
 

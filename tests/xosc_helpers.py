@@ -7,11 +7,15 @@ from pathlib import Path
 from cli_helpers import invoke
 
 
-def edited(path: Path, old: str, new: str, count: int = 1) -> Path:
-    """`path` with `old` (which must occur) replaced by `new`, `count` times."""
+def edited(path: Path, old: str, new: str, count: int = 1, last: bool = False) -> Path:
+    """`path` with `old` (which must occur) replaced by `new`, `count` times (with `last`: its last occurrence)."""
     text = path.read_text()
     assert old in text, old
-    path.write_text(text.replace(old, new, count))
+    if last:
+        head, _, tail = text.rpartition(old)
+        path.write_text(head + new + tail)
+    else:
+        path.write_text(text.replace(old, new, count))
     return path
 
 
