@@ -61,12 +61,16 @@ def simulate(
     planner: Planner | None = None,
     channel: Channel | None = None,
     trace: bool = False,
+    compiled: bool | None = None,
 ) -> BatchRun:
     """Run scenarios (or an already packed batch) as one batch; return the streamed results and optional trace.
 
     Without a trace, variants that have stopped are dropped from the working set as the run goes on (if the
     planner, channel and sensor model all have a `compact` method); their results are final by then. A
     planner or channel passed in then ends the run holding only the variants still running at its end.
+
+    `compiled`: None runs a built-in planner's compiled step when the batch allows it, else the per-step path;
+    False always takes the per-step path (Python planners always do). Both give identical results.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
     check_budgets(batch, trace)

@@ -21,16 +21,36 @@ def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
     """Each variant's `planner.params` validated by `model`; the first error names the scenario and the field.
 
     Message: `<scenario>: planner.params.<field>: <reason>` ("unknown field" for a name the model lacks).
+    Equal mappings are validated once and share one model (a sweep's variants mostly repeat the base's).
     """
     out = []
+    seen: dict[object, Model] = {}
     for name, given in zip(params.names, params.planner_params, strict=True):
+        key = _content_key(given)
+        if key is not None and key in seen:
+            out.append(seen[key])
+            continue
         try:
-            out.append(model.model_validate(dict(given)))
+            validated = model.model_validate(dict(given))
         except ValidationError as error:
             item = error.errors(include_url=False)[0]
             where = field_path(("planner", "params", *item["loc"]))
             raise UserInputError(f"{name}: {where}: {error_message(item)}") from None
+        out.append(validated)
+        if key is not None:
+            seen[key] = validated
     return out
+
+
+def _content_key(given) -> object | None:
+    """A hashable key equal only for mappings of equal names, value types and values; None when a value is not
+    hashable (such mappings are validated every time)."""
+    try:
+        key = frozenset((name, type(value), value) for name, value in given.items())
+        hash(key)
+    except TypeError:
+        return None
+    return key
 
 
 def param_table(per_variant: Sequence[BaseModel], names: Sequence[str]) -> np.ndarray:
