@@ -18,7 +18,7 @@ from vrusim.engine.surrogates import (
     record_surrogates,
 )
 from vrusim.geometry.contact import clearance_local, to_local
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.params import BatchParams
 
 
@@ -260,15 +260,21 @@ class RunMetrics:
 
 @batch_kernel
 def _record_detection(t, active, sensed, received, values):  # pragma: no cover (compiled)
-    B, K = sensed.shape
-    for b in prange(B):
-        if not active[b]:
-            continue
-        for k in range(K):
-            if sensed[b, k] and np.isnan(values[FIRST_SENSOR, b]):
-                values[FIRST_SENSOR, b] = t
-            if received[b, k] and np.isnan(values[FIRST_V2X, b]):
-                values[FIRST_V2X, b] = t
+    for b in prange(sensed.shape[0]):
+        record_detection_variant(b, t, active, sensed, received, values)
+
+
+@njit(cache=True, inline="always")
+def record_detection_variant(b, t, active, sensed, received, values):  # pragma: no cover (compiled)
+    """`_record_detection` for variant b."""
+    K = sensed.shape[1]
+    if not active[b]:
+        return
+    for k in range(K):
+        if sensed[b, k] and np.isnan(values[FIRST_SENSOR, b]):
+            values[FIRST_SENSOR, b] = t
+        if received[b, k] and np.isnan(values[FIRST_V2X, b]):
+            values[FIRST_V2X, b] = t
 
 
 @batch_kernel
@@ -299,69 +305,129 @@ def _record_step(
     m,
     collided,
 ):  # pragma: no cover (compiled)
-    B, K = clearance.shape
-    for b in prange(B):
-        if not active[b]:
-            m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
-            continue
-        jerk = (actuator[b] - m[PREV_ACT, b]) / dt if moving_before[b] else 0.0
-        a = accel[b]
-        m[PEAK_A, b] = max(m[PEAK_A, b], a)
-        m[PEAK_D, b] = max(m[PEAK_D, b], -a)
-        m[PEAK_J, b] = max(m[PEAK_J, b], abs(jerk))
-        m[PEAK_LAT, b] = max(m[PEAK_LAT, b], speed[b] * speed[b] * abs(curvature[b]))
-        m[SUM_A2, b] += a * a * dt
-        m[SUM_J2, b] += jerk * jerk * dt
-        m[ELAPSED, b] += dt
-        if moving_before[b] or speed[b] > 0.0:
-            m[MOVING, b] += dt
-        closest, nearest, soonest, soonest_k = np.inf, 0, np.inf, 0
-        for k in range(K):
-            if clearance[b, k] < closest:
-                closest, nearest = clearance[b, k], k
-            if ttc[b, k] < soonest:
-                soonest, soonest_k = ttc[b, k], k
-        if closest < m[MIN_CLR, b]:
-            m[MIN_CLR, b], m[MIN_CLR_T, b] = closest, t
-        if soonest < m[MIN_TTC, b]:
-            m[MIN_TTC, b], m[MIN_TTC_T, b] = soonest, t
-        if np.isnan(m[TRAVEL, b]) and station[b] >= route_length[b]:
-            # interpolated inside the step, so a free-flow trip takes exactly length / speed whatever dt
-            before = m[FINAL_S, b]
-            frac = (route_length[b] - before) / (station[b] - before) if station[b] > before else 1.0
-            m[TRAVEL, b] = t - dt + min(max(frac, 0.0), 1.0) * dt
-        # Swept test: the bodies also touched inside this step if, at its start, the time-to-collision under
-        # constant velocities was at most dt (a fast VRU can pass through the ego between two step ends).
-        swept = m[PREV_TTC, b] <= dt
-        if not collided[b] and (closest <= 0.0 or swept):
-            if swept:  # contact time from the TTC at the step start
-                frac = m[PREV_TTC, b] / dt
-                nearest = int(m[PREV_TTC_VRU, b])
-            else:  # time and ego speed interpolated where the clearance crossed zero in this step
-                before = m[PREV_CLR, b]
-                frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
-            frac = min(max(frac, 0.0), 1.0)
-            collided[b] = True
-            m[CONTACT_T, b] = t - dt + frac * dt
-            m[IMPACT_V, b] = m[PREV_V, b] + frac * (speed[b] - m[PREV_V, b])
-            rvx = speed[b] * hx[b] - vru[2, b, nearest]
-            rvy = speed[b] * hy[b] - vru[3, b, nearest]
-            m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
-            m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
-            # the VRU's centre when the bodies met: its step-end position moved back along the relative motion
-            back = (1.0 - frac) * dt
-            px = vru[0, b, nearest] + rvx * back
-            py = vru[1, b, nearest] + rvy * back
-            lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
-            m[IMPACT_VRU_X, b], m[IMPACT_VRU_Y, b] = lx, ly
-            m[IMPACT_DOOR, b] = 1.0 if (door_hit[b, nearest] and not swept) else 0.0
-            if swept:  # impact point where the bodies met
-                _, m[IMPACT_X, b], m[IMPACT_Y, b] = clearance_local(lx, ly, half_length[b], half_width[b], 0.0)
-                m[MIN_CLR, b] = min(m[MIN_CLR, b], 0.0)
-            else:
-                m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
-            m[IMPACT_VRU, b] = nearest
-        m[PREV_CLR, b] = closest
-        m[PREV_TTC, b], m[PREV_TTC_VRU, b] = soonest, soonest_k
+    for b in prange(clearance.shape[0]):
+        record_step_variant(
+            b,
+            t,
+            dt,
+            active,
+            speed,
+            accel,
+            actuator,
+            curvature,
+            station,
+            hx,
+            hy,
+            moving_before,
+            route_length,
+            clearance,
+            outline_x,
+            outline_y,
+            ttc,
+            vru,
+            centre_x,
+            centre_y,
+            half_length,
+            half_width,
+            radius,
+            door_hit,
+            m,
+            collided,
+        )
+
+
+@njit(cache=True, inline="always")
+def record_step_variant(
+    b,
+    t,
+    dt,
+    active,
+    speed,
+    accel,
+    actuator,
+    curvature,
+    station,
+    hx,
+    hy,
+    moving_before,
+    route_length,
+    clearance,
+    outline_x,
+    outline_y,
+    ttc,
+    vru,
+    centre_x,
+    centre_y,
+    half_length,
+    half_width,
+    radius,
+    door_hit,
+    m,
+    collided,
+):  # pragma: no cover (compiled)
+    """`_record_step` for variant b."""
+    K = clearance.shape[1]
+    if not active[b]:
         m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
-        m[END_T, b], m[FINAL_V, b], m[FINAL_S, b] = t, speed[b], station[b]
+        return
+    jerk = (actuator[b] - m[PREV_ACT, b]) / dt if moving_before[b] else 0.0
+    a = accel[b]
+    m[PEAK_A, b] = max(m[PEAK_A, b], a)
+    m[PEAK_D, b] = max(m[PEAK_D, b], -a)
+    m[PEAK_J, b] = max(m[PEAK_J, b], abs(jerk))
+    m[PEAK_LAT, b] = max(m[PEAK_LAT, b], speed[b] * speed[b] * abs(curvature[b]))
+    m[SUM_A2, b] += a * a * dt
+    m[SUM_J2, b] += jerk * jerk * dt
+    m[ELAPSED, b] += dt
+    if moving_before[b] or speed[b] > 0.0:
+        m[MOVING, b] += dt
+    closest, nearest, soonest, soonest_k = np.inf, 0, np.inf, 0
+    for k in range(K):
+        if clearance[b, k] < closest:
+            closest, nearest = clearance[b, k], k
+        if ttc[b, k] < soonest:
+            soonest, soonest_k = ttc[b, k], k
+    if closest < m[MIN_CLR, b]:
+        m[MIN_CLR, b], m[MIN_CLR_T, b] = closest, t
+    if soonest < m[MIN_TTC, b]:
+        m[MIN_TTC, b], m[MIN_TTC_T, b] = soonest, t
+    if np.isnan(m[TRAVEL, b]) and station[b] >= route_length[b]:
+        # interpolated inside the step, so a free-flow trip takes exactly length / speed whatever dt
+        before = m[FINAL_S, b]
+        frac = (route_length[b] - before) / (station[b] - before) if station[b] > before else 1.0
+        m[TRAVEL, b] = t - dt + min(max(frac, 0.0), 1.0) * dt
+    # Swept test: the bodies also touched inside this step if, at its start, the time-to-collision under
+    # constant velocities was at most dt (a fast VRU can pass through the ego between two step ends).
+    swept = m[PREV_TTC, b] <= dt
+    if not collided[b] and (closest <= 0.0 or swept):
+        if swept:  # contact time from the TTC at the step start
+            frac = m[PREV_TTC, b] / dt
+            nearest = int(m[PREV_TTC_VRU, b])
+        else:  # time and ego speed interpolated where the clearance crossed zero in this step
+            before = m[PREV_CLR, b]
+            frac = before / (before - closest) if (np.isfinite(before) and before > closest) else 1.0
+        frac = min(max(frac, 0.0), 1.0)
+        collided[b] = True
+        m[CONTACT_T, b] = t - dt + frac * dt
+        m[IMPACT_V, b] = m[PREV_V, b] + frac * (speed[b] - m[PREV_V, b])
+        rvx = speed[b] * hx[b] - vru[2, b, nearest]
+        rvy = speed[b] * hy[b] - vru[3, b, nearest]
+        m[IMPACT_REL, b] = np.sqrt(rvx * rvx + rvy * rvy)
+        m[IMPACT_REL_LONG, b] = rvx * hx[b] + rvy * hy[b]
+        # the VRU's centre when the bodies met: its step-end position moved back along the relative motion
+        back = (1.0 - frac) * dt
+        px = vru[0, b, nearest] + rvx * back
+        py = vru[1, b, nearest] + rvy * back
+        lx, ly = to_local(centre_x[b], centre_y[b], hx[b], hy[b], px, py)
+        m[IMPACT_VRU_X, b], m[IMPACT_VRU_Y, b] = lx, ly
+        m[IMPACT_DOOR, b] = 1.0 if (door_hit[b, nearest] and not swept) else 0.0
+        if swept:  # impact point where the bodies met
+            _, m[IMPACT_X, b], m[IMPACT_Y, b] = clearance_local(lx, ly, half_length[b], half_width[b], 0.0)
+            m[MIN_CLR, b] = min(m[MIN_CLR, b], 0.0)
+        else:
+            m[IMPACT_X, b], m[IMPACT_Y, b] = outline_x[b, nearest], outline_y[b, nearest]
+        m[IMPACT_VRU, b] = nearest
+    m[PREV_CLR, b] = closest
+    m[PREV_TTC, b], m[PREV_TTC_VRU, b] = soonest, soonest_k
+    m[PREV_ACT, b], m[PREV_V, b] = actuator[b], speed[b]
+    m[END_T, b], m[FINAL_V, b], m[FINAL_S, b] = t, speed[b], station[b]

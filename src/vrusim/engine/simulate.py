@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vrusim.engine.accumulators import RunMetrics
+from vrusim.engine.compiled_run import compiled_support, run_compiled
 from vrusim.engine.stepper import BatchStepper
 from vrusim.engine.trace_recorder import TraceRecorder, check_trace_budget
 from vrusim.errors import UserInputError
@@ -69,8 +70,9 @@ def simulate(
     planner, channel and sensor model all have a `compact` method); their results are final by then. A
     planner or channel passed in then ends the run holding only the variants still running at its end.
 
-    `compiled`: None runs a built-in planner's compiled step when the batch allows it, else the per-step path;
-    False always takes the per-step path (Python planners always do). Both give identical results.
+    `compiled`: None runs a built-in planner's compiled step (`engine.compiled_run`) when the run allows it,
+    else the per-step path; False always takes the per-step path (Python planners always do); True insists on
+    the compiled step (ValueError saying why it cannot). Both paths give identical results.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
     check_budgets(batch, trace)
@@ -78,6 +80,16 @@ def simulate(
     planner = planner if planner is not None else _planner_for(batch.planner_names)
     planner.reset(batch)
     mode_names = planner_mode_names(planner)
+    if compiled is not False:
+        why_not = compiled_support(batch, planner, channel, trace)
+        if why_not is None:
+            metrics = RunMetrics(batch, len(mode_names))
+            steps = run_compiled(batch, planner, metrics)
+            if steps is not None:
+                return BatchRun(batch, metrics, mode_names, None, steps)
+            planner.reset(batch)  # a variant changed mode more often than the compiled step records: per step
+        elif compiled:
+            raise ValueError(f"simulate(compiled=True): no compiled step for this run ({why_not})")
     stepper = BatchStepper(batch, len(mode_names), channel)
     recorder = TraceRecorder(batch.n_steps) if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)

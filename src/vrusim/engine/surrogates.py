@@ -81,36 +81,84 @@ def record_surrogates(
     pv,
 ):  # pragma: no cover (compiled)
     """Fold one step (ending at t) into the surrogate rows `s` [S, B] and per-VRU rows `pv` [B, V, K]."""
-    B, K = clearance.shape
-    for b in prange(B):
-        if not active[b]:
-            continue
-        hl, w, v = half_length[b], half_width[b], speed[b]
-        centre_station = station[b] + rear_to_centre[b]
-        soonest = np.inf
-        for k in range(K):
-            tau, r = ttc[b, k], radius[b, k]
-            soonest = min(soonest, tau)
-            if tau < pv[b, V_TTC, k]:
-                pv[b, V_TTC, k] = tau
-            if clearance[b, k] < pv[b, V_CLR, k]:
-                pv[b, V_CLR, k] = clearance[b, k]
-            vx, vy = vru[2, b, k], vru[3, b, k]
-            closing = v - (vx * hx[b] + vy * hy[b])
-            if 0.0 < tau < np.inf and closing > 0.0:
-                drac = closing / (2.0 * tau)
-                if drac > s[DRAC, b]:
-                    s[DRAC, b], s[DRAC_T, b] = drac, t
-            x, y = to_local(centre_x[b], centre_y[b], hx[b], hy[b], vru[0, b, k], vru[1, b, k])
-            if abs(x) <= hl:
-                lateral = abs(y) - w - r
-                if lateral < s[LAT, b]:
-                    s[LAT, b], s[LAT_T, b] = lateral, t
-            if np.isnan(pv[b, PET, k]):
-                _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k)
-        if 0.0 <= soonest <= threshold[b]:
-            s[TET, b] += dt
-            s[TIT, b] += (threshold[b] - soonest) * dt
+    for b in prange(clearance.shape[0]):
+        surrogates_variant(
+            b,
+            t,
+            dt,
+            active,
+            speed,
+            hx,
+            hy,
+            centre_x,
+            centre_y,
+            station,
+            rear_to_centre,
+            half_length,
+            half_width,
+            radius,
+            vru,
+            clearance,
+            ttc,
+            threshold,
+            s,
+            pv,
+        )
+
+
+@njit(cache=True, inline="always")
+def surrogates_variant(
+    b,
+    t,
+    dt,
+    active,
+    speed,
+    hx,
+    hy,
+    centre_x,
+    centre_y,
+    station,
+    rear_to_centre,
+    half_length,
+    half_width,
+    radius,
+    vru,
+    clearance,
+    ttc,
+    threshold,
+    s,
+    pv,
+):  # pragma: no cover (compiled)
+    """`record_surrogates` for variant b."""
+    K = clearance.shape[1]
+    if not active[b]:
+        return
+    hl, w, v = half_length[b], half_width[b], speed[b]
+    centre_station = station[b] + rear_to_centre[b]
+    soonest = np.inf
+    for k in range(K):
+        tau, r = ttc[b, k], radius[b, k]
+        soonest = min(soonest, tau)
+        if tau < pv[b, V_TTC, k]:
+            pv[b, V_TTC, k] = tau
+        if clearance[b, k] < pv[b, V_CLR, k]:
+            pv[b, V_CLR, k] = clearance[b, k]
+        vx, vy = vru[2, b, k], vru[3, b, k]
+        closing = v - (vx * hx[b] + vy * hy[b])
+        if 0.0 < tau < np.inf and closing > 0.0:
+            drac = closing / (2.0 * tau)
+            if drac > s[DRAC, b]:
+                s[DRAC, b], s[DRAC_T, b] = drac, t
+        x, y = to_local(centre_x[b], centre_y[b], hx[b], hy[b], vru[0, b, k], vru[1, b, k])
+        if abs(x) <= hl:
+            lateral = abs(y) - w - r
+            if lateral < s[LAT, b]:
+                s[LAT, b], s[LAT_T, b] = lateral, t
+        if np.isnan(pv[b, PET, k]):
+            _pet_step(t, dt, v, x, y, hl, w, r, centre_station, pv, b, k)
+    if 0.0 <= soonest <= threshold[b]:
+        s[TET, b] += dt
+        s[TIT, b] += (threshold[b] - soonest) * dt
 
 
 @njit(cache=True, inline="always")

@@ -215,8 +215,14 @@ def impact_location(
 @batch_kernel
 def clearance_batch(cx, cy, hx, hy, hl, hw, px, py, r, out):  # pragma: no cover (compiled)
     """Engine fast path: rectangles [B], circles [B, K] -> out [3, B, K] = clearance, outline x, outline y."""
-    B, K = px.shape
-    for b in prange(B):
-        for k in range(K):
-            lx, ly = to_local(cx[b], cy[b], hx[b], hy[b], px[b, k], py[b, k])
-            out[0, b, k], out[1, b, k], out[2, b, k] = clearance_local(lx, ly, hl[b], hw[b], r[b, k])
+    for b in prange(px.shape[0]):
+        clearance_variant(b, cx, cy, hx, hy, hl, hw, px, py, r, out)
+
+
+@njit(cache=True, inline="always")
+def clearance_variant(b, cx, cy, hx, hy, hl, hw, px, py, r, out):  # pragma: no cover (compiled)
+    """`clearance_batch` for variant b."""
+    K = px.shape[1]
+    for k in range(K):
+        lx, ly = to_local(cx[b], cy[b], hx[b], hy[b], px[b, k], py[b, k])
+        out[0, b, k], out[1, b, k], out[2, b, k] = clearance_local(lx, ly, hl[b], hw[b], r[b, k])

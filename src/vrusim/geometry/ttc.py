@@ -117,10 +117,16 @@ def time_to_collision(
 def ttc_batch(cx, cy, hx, hy, hl, hw, speed, qx, qy, r, vx, vy, out):  # pragma: no cover (compiled)
     """Engine fast path: rectangles [B] moving at `speed` along their heading, circles [B, K]
     -> out = TTC [B, K] s (no horizon)."""
-    B, K = qx.shape
-    for b in prange(B):
-        evx, evy = speed[b] * hx[b], speed[b] * hy[b]
-        for k in range(K):
-            px, py = to_local(cx[b], cy[b], hx[b], hy[b], qx[b, k], qy[b, k])
-            wx, wy = to_local(evx, evy, hx[b], hy[b], vx[b, k], vy[b, k])
-            out[b, k] = ttc_local(px, py, wx, wy, hl[b], hw[b], r[b, k], np.inf)
+    for b in prange(qx.shape[0]):
+        ttc_variant(b, cx, cy, hx, hy, hl, hw, speed, qx, qy, r, vx, vy, out)
+
+
+@njit(cache=True, inline="always")
+def ttc_variant(b, cx, cy, hx, hy, hl, hw, speed, qx, qy, r, vx, vy, out):  # pragma: no cover (compiled)
+    """`ttc_batch` for variant b."""
+    K = qx.shape[1]
+    evx, evy = speed[b] * hx[b], speed[b] * hy[b]
+    for k in range(K):
+        px, py = to_local(cx[b], cy[b], hx[b], hy[b], qx[b, k], qy[b, k])
+        wx, wy = to_local(evx, evy, hx[b], hy[b], vx[b, k], vy[b, k])
+        out[b, k] = ttc_local(px, py, wx, wy, hl[b], hw[b], r[b, k], np.inf)

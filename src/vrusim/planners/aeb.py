@@ -190,45 +190,93 @@ def _aeb_step(
     driver_accel,
     command,
 ):  # pragma: no cover (compiled)
-    B, K = detected.shape
-    for b in prange(B):
-        v = speed[b]
-        resume = max(v, cruise_speed[b])
-        horizon = p[b, _WARN_TTC] + p[b, _HYSTERESIS]  # longer TTCs call for no stage
-        ttc, ttc_resume = np.inf, np.inf
-        for k in range(K):
-            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
-            if not known:
-                continue
-            decel = braking_decel(vx, vy, ax, ay) if p[b, _PREDICT_BRAKING] > 0.5 else 0.0
-            ttc = min(
-                ttc,
+    for b in prange(detected.shape[0]):
+        aeb_variant(
+            b,
+            path,
+            offsets,
+            t,
+            rear_station,
+            rear_to_centre,
+            speed,
+            cruise_speed,
+            half_length,
+            half_width,
+            detected,
+            estimate,
+            radius,
+            p,
+            tracks,
+            mode,
+            ttc_out,
+            has_driver,
+            driver_accel,
+            command,
+        )
+
+
+@njit(cache=True, inline="always")
+def aeb_variant(
+    b,
+    path,
+    offsets,
+    t,
+    rear_station,
+    rear_to_centre,
+    speed,
+    cruise_speed,
+    half_length,
+    half_width,
+    detected,
+    estimate,
+    radius,
+    p,
+    tracks,
+    mode,
+    ttc_out,
+    has_driver,
+    driver_accel,
+    command,
+):  # pragma: no cover (compiled)
+    """`_aeb_step` for variant b."""
+    K = detected.shape[1]
+    v = speed[b]
+    resume = max(v, cruise_speed[b])
+    horizon = p[b, _WARN_TTC] + p[b, _HYSTERESIS]  # longer TTCs call for no stage
+    ttc, ttc_resume = np.inf, np.inf
+    for k in range(K):
+        known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
+        if not known:
+            continue
+        decel = braking_decel(vx, vy, ax, ay) if p[b, _PREDICT_BRAKING] > 0.5 else 0.0
+        ttc = min(
+            ttc,
+            route_ttc(
+                path, offsets[b], rear_station[b], v, rear_to_centre[b], half_length[b], half_width[b],
+                x, y, vx, vy, decel, radius[b, k], horizon,
+            ),
+        )  # fmt: skip
+        if mode[b] != CRUISE and resume > v:
+            ttc_resume = min(
+                ttc_resume,
                 route_ttc(
-                    path, offsets[b], rear_station[b], v, rear_to_centre[b], half_length[b], half_width[b],
+                    path, offsets[b], rear_station[b], resume, rear_to_centre[b], half_length[b], half_width[b],
                     x, y, vx, vy, decel, radius[b, k], horizon,
                 ),
             )  # fmt: skip
-            if mode[b] != CRUISE and resume > v:
-                ttc_resume = min(
-                    ttc_resume,
-                    route_ttc(
-                        path, offsets[b], rear_station[b], resume, rear_to_centre[b], half_length[b], half_width[b],
-                        x, y, vx, vy, decel, radius[b, k], horizon,
-                    ),
-                )  # fmt: skip
-        ttc_resume = min(ttc_resume, ttc)
-        previous = mode[b]
-        stage = stage_of(ttc, p[b])
-        # escalate at once; keep a stage until resuming cruise would not call for it (hysteresis included)
-        stage = max(stage, min(previous, stage_of(ttc_resume - p[b, _HYSTERESIS], p[b])))
-        mode[b] = stage
-        ttc_out[b] = ttc
-        if stage == FULL_BRAKE:
-            command[b] = -p[b, _FULL_DECEL]
-        elif stage == PARTIAL_BRAKE:
-            command[b] = -p[b, _PARTIAL_DECEL]
-        elif has_driver[b]:
-            command[b] = driver_accel[b]
-        else:
-            a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
-            command[b] = min(max(a, -p[b, _CRUISE_DECEL]), p[b, _CRUISE_ACCEL])
+    ttc_resume = min(ttc_resume, ttc)
+    previous = mode[b]
+    stage = stage_of(ttc, p[b])
+    # escalate at once; keep a stage until resuming cruise would not call for it (hysteresis included)
+    stage = max(stage, min(previous, stage_of(ttc_resume - p[b, _HYSTERESIS], p[b])))
+    mode[b] = stage
+    ttc_out[b] = ttc
+    if stage == FULL_BRAKE:
+        command[b] = -p[b, _FULL_DECEL]
+    elif stage == PARTIAL_BRAKE:
+        command[b] = -p[b, _PARTIAL_DECEL]
+    elif has_driver[b]:
+        command[b] = driver_accel[b]
+    else:
+        a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
+        command[b] = min(max(a, -p[b, _CRUISE_DECEL]), p[b, _CRUISE_ACCEL])

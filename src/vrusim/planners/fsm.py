@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import new_tracks, track_and_analyse
 from vrusim.planners.params import validate_params
@@ -165,65 +165,109 @@ def _fsm_step(
     mode,
     command,
 ):  # pragma: no cover (compiled)
-    B, K = detected.shape
-    for b in prange(B):
-        v = speed[b]
-        arrival_speed = max(v, p[b, _ARRIVAL_SPEED])
-        margin = p[b, _TIME_MARGIN]
-        braking = mode[b] == PRE_SLOW or mode[b] == EMERGENCY_BRAKE
-        gap, lead_speed, is_lead = np.inf, 0.0, False
-        for k in range(K):
-            known, station[b, k], conflict, lead, distance, along, t_in, t_out = track_and_analyse(
-                path,
-                offsets[b],
-                t,
-                detected[b, k],
-                estimate,
-                b,
-                k,
-                p[b, _MEMORY],
-                tracks[b, k],
-                station[b, k],
-                front_station[b],
-                front_station[b] - ego_length[b],
-                half_width[b],
-                radius[b, k],
-                p[b, _MARGIN],
-                p[b, _HORIZON],
-            )
-            if not known:
-                continue
-            if not conflict:
-                continue
-            arrive = distance / arrival_speed
-            clear = (distance + zone_length[b] + 2.0 * radius[b, k]) / arrival_speed
-            overlap = t_in <= clear + margin and t_out >= arrive - margin
-            if (lead or overlap or braking) and distance < gap:
-                gap, lead_speed, is_lead = distance, along, lead
-        if gap == np.inf:
-            mode[b] = CRUISE
-        elif is_lead:
-            closing = v - lead_speed
-            ttc = gap / closing if closing > 1e-6 else np.inf
-            mode[b] = EMERGENCY_BRAKE if ttc < p[b, _LEAD_TTC] else FOLLOW
-        elif mode[b] == EMERGENCY_BRAKE or gap <= p[b, _HEADWAY] * v:
-            mode[b] = EMERGENCY_BRAKE
-        else:
-            mode[b] = PRE_SLOW
-        if mode[b] == CRUISE:
-            a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
-            command[b] = min(max(a, -p[b, _PRE_SLOW]), p[b, _CRUISE_ACCEL])
-        elif mode[b] == PRE_SLOW:
-            command[b] = -p[b, _PRE_SLOW]
-        elif mode[b] == EMERGENCY_BRAKE:
-            command[b] = -p[b, _EMERGENCY]
-        else:  # IDM+ toward the lead
-            a_max, comfort = p[b, _CRUISE_ACCEL], p[b, _COMFORT_DECEL]
-            desired = (
-                p[b, _STANDSTILL] + v * p[b, _FOLLOW_HEADWAY] + v * (v - lead_speed) / (2.0 * np.sqrt(a_max * comfort))
-            )
-            desired = max(desired, p[b, _STANDSTILL])
-            free_road = (v / max(cruise_speed[b], 0.1)) ** 4
-            interaction = (desired / max(gap, 1e-3)) ** 2
-            a = a_max * min(1.0 - free_road, 1.0 - interaction)
-            command[b] = min(max(a, -p[b, _FOLLOW_DECEL]), a_max)
+    for b in prange(detected.shape[0]):
+        fsm_variant(
+            b,
+            path,
+            offsets,
+            t,
+            front_station,
+            speed,
+            cruise_speed,
+            half_width,
+            zone_length,
+            ego_length,
+            detected,
+            estimate,
+            radius,
+            p,
+            tracks,
+            station,
+            mode,
+            command,
+        )
+
+
+@njit(cache=True, inline="always")
+def fsm_variant(
+    b,
+    path,
+    offsets,
+    t,
+    front_station,
+    speed,
+    cruise_speed,
+    half_width,
+    zone_length,
+    ego_length,
+    detected,
+    estimate,
+    radius,
+    p,
+    tracks,
+    station,
+    mode,
+    command,
+):  # pragma: no cover (compiled)
+    """`_fsm_step` for variant b."""
+    K = detected.shape[1]
+    v = speed[b]
+    arrival_speed = max(v, p[b, _ARRIVAL_SPEED])
+    margin = p[b, _TIME_MARGIN]
+    braking = mode[b] == PRE_SLOW or mode[b] == EMERGENCY_BRAKE
+    gap, lead_speed, is_lead = np.inf, 0.0, False
+    for k in range(K):
+        known, station[b, k], conflict, lead, distance, along, t_in, t_out = track_and_analyse(
+            path,
+            offsets[b],
+            t,
+            detected[b, k],
+            estimate,
+            b,
+            k,
+            p[b, _MEMORY],
+            tracks[b, k],
+            station[b, k],
+            front_station[b],
+            front_station[b] - ego_length[b],
+            half_width[b],
+            radius[b, k],
+            p[b, _MARGIN],
+            p[b, _HORIZON],
+        )
+        if not known:
+            continue
+        if not conflict:
+            continue
+        arrive = distance / arrival_speed
+        clear = (distance + zone_length[b] + 2.0 * radius[b, k]) / arrival_speed
+        overlap = t_in <= clear + margin and t_out >= arrive - margin
+        if (lead or overlap or braking) and distance < gap:
+            gap, lead_speed, is_lead = distance, along, lead
+    if gap == np.inf:
+        mode[b] = CRUISE
+    elif is_lead:
+        closing = v - lead_speed
+        ttc = gap / closing if closing > 1e-6 else np.inf
+        mode[b] = EMERGENCY_BRAKE if ttc < p[b, _LEAD_TTC] else FOLLOW
+    elif mode[b] == EMERGENCY_BRAKE or gap <= p[b, _HEADWAY] * v:
+        mode[b] = EMERGENCY_BRAKE
+    else:
+        mode[b] = PRE_SLOW
+    if mode[b] == CRUISE:
+        a = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
+        command[b] = min(max(a, -p[b, _PRE_SLOW]), p[b, _CRUISE_ACCEL])
+    elif mode[b] == PRE_SLOW:
+        command[b] = -p[b, _PRE_SLOW]
+    elif mode[b] == EMERGENCY_BRAKE:
+        command[b] = -p[b, _EMERGENCY]
+    else:  # IDM+ toward the lead
+        a_max, comfort = p[b, _CRUISE_ACCEL], p[b, _COMFORT_DECEL]
+        desired = (
+            p[b, _STANDSTILL] + v * p[b, _FOLLOW_HEADWAY] + v * (v - lead_speed) / (2.0 * np.sqrt(a_max * comfort))
+        )
+        desired = max(desired, p[b, _STANDSTILL])
+        free_road = (v / max(cruise_speed[b], 0.1)) ** 4
+        interaction = (desired / max(gap, 1e-3)) ** 2
+        a = a_max * min(1.0 - free_road, 1.0 - interaction)
+        command[b] = min(max(a, -p[b, _FOLLOW_DECEL]), a_max)

@@ -26,7 +26,7 @@ from typing import ClassVar, Literal
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import analyse_vru, new_tracks, update_track, warm_station
 from vrusim.planners.params import param_table, validate_params
@@ -202,109 +202,177 @@ def _predictive_step(
     command,
     scratch,
 ):  # pragma: no cover (compiled)
-    B, K = detected.shape
-    for b in prange(B):
-        v = speed[b]
-        horizon = p[b, _HORIZON]
-        # how far along its route the ego can get within the planning window (for the reachability screen)
-        reach_ego = max(v, cruise_speed[b]) * (horizon + p[b, _FOLLOW_GAP] + p[b, _MARGIN_T]) + ego_length[b]
-        plan, plan_now, ttc, binding_lead, threat = np.inf, np.inf, np.inf, False, False
-        bounds = scratch[b]  # [5], filled by occupancy_bounds
-        # the new plan starts once the command has ramped down to the last plan (jerk-aware planning)
-        comfort = p[b, _COMFORT_DECEL]
-        ramp = p[b, _COMFORT_JERK] if last_plan[b] >= -comfort else p[b, _EMERGENCY_JERK]
-        delay, ahead, plan_speed = plan_start(v, command[b], max(last_plan[b], -p[b, _EMERGENCY]), ramp)
-        for k in range(K):
-            was_known = t - tracks[b, k, 0] <= p[b, _MEMORY]
-            known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
-            if not known:
-                yielding[b, k] = False
-                continue
-            r = radius[b, k]
-            guess = warm_station(route, offsets[b], was_known, x, y, station[b, k])
-            s_now, _, lead, _, _, _, _ = analyse_vru(
-                route, offsets[b], guess, front_station[b], front_station[b], half_width[b], r, p[b, _MARGIN_M],
-                ENTRY_HORIZON_S,
-                x, y, vx, vy, 0.0, 0.0,
-            )  # fmt: skip
-            station[b, k] = s_now
-            ttc = min(
-                ttc,
-                route_ttc(
-                    route, offsets[b], front_station[b] - rear_to_front[b], v, rear_to_centre[b],
-                    0.5 * ego_length[b], half_width[b], x, y, vx, vy, 0.0, r, p[b, _EMERGENCY_TTC],
-                ),
-            )  # fmt: skip
-            v_vru = np.sqrt(vx * vx + vy * vy)
-            if v_vru > 1e-6:
-                ux, uy = vx / v_vru, vy / v_vru
-            else:  # at rest: it would set off along its acceleration
-                a_abs = np.sqrt(ax * ax + ay * ay)
-                ux, uy = (ax / a_abs, ay / a_abs) if a_abs > 1e-6 else (0.0, 0.0)
-            sigma = 0.0
-            if kind[b] == PATH:
-                sigma, ux, uy = path_station_of(vru_paths, vru_offsets[b, k], was_known, path_station[b, k], x, y)
-                path_station[b, k] = sigma
-            accel = ax * ux + ay * uy
-            reach_vru = v_vru * horizon + 0.5 * max(accel, 0.0) * horizon * horizon
-            dx, dy = x - front_x[b], y - front_y[b]
-            if np.sqrt(dx * dx + dy * dy) > reach_ego + reach_vru + half_width[b] + r + p[b, _MARGIN_M]:
-                yielding[b, k] = False  # cannot reach the part of the route the ego drives within the window
-                continue
-            bounds[0], bounds[1], bounds[2], bounds[3], bounds[4] = 0.0, 1.0, np.inf, -np.inf, np.inf
-            margin = p[b, _FOLLOW_GAP] if lead else p[b, _MARGIN_T]
-            profiles = 2 if (p[b, _ENVELOPE] > 0.5 and abs(accel) > 1e-3) else 1
-            for profile in range(profiles):
-                occupancy_bounds(
-                    route, offsets[b], s_now, kind[b], vru_paths, vru_offsets[b, k], sigma, x, y, ux, uy,
-                    v_vru, accel if profile == 1 else 0.0, horizon, p[b, _STEP], half_width[b], p[b, _MARGIN_M], r,
-                    front_station[b], v, ego_length[b], p[b, _MARGIN_T],
-                    (margin, p[b, _STOP_GAP], delay, ahead, plan_speed, cruise_speed[b]), bounds,
-                )  # fmt: skip
-            if bounds[0] < 0.5:
-                yielding[b, k] = False  # it does not occupy the corridor ahead within the horizon
-                continue
-            if bounds[1] > 0.5 and not yielding[b, k]:
-                continue  # the ego passes first
-            yielding[b, k] = True
-            threat = True
-            if bounds[2] < plan:
-                plan, binding_lead = bounds[2], lead
-            plan_now = min(plan_now, bounds[4])
+    for b in prange(detected.shape[0]):
+        predictive_variant(
+            b,
+            route,
+            offsets,
+            t,
+            dt,
+            front_x,
+            front_y,
+            front_station,
+            rear_to_front,
+            rear_to_centre,
+            speed,
+            cruise_speed,
+            half_width,
+            ego_length,
+            detected,
+            estimate,
+            radius,
+            vru_paths,
+            vru_offsets,
+            kind,
+            p,
+            tracks,
+            station,
+            path_station,
+            yielding,
+            mode,
+            required,
+            last_plan,
+            command,
+            scratch,
+        )
 
-        last_plan[b] = plan if threat else np.inf
-        cruise = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
-        cruise = min(max(cruise, -comfort), p[b, _CRUISE_ACCEL])
-        required[b] = max(-plan, 0.0) if threat else 0.0
-        if ttc <= p[b, _EMERGENCY_TTC]:
-            mode[b] = EMERGENCY_BRAKE
-            command[b] = -p[b, _EMERGENCY]
+
+@njit(cache=True, inline="always")
+def predictive_variant(
+    b,
+    route,
+    offsets,
+    t,
+    dt,
+    front_x,
+    front_y,
+    front_station,
+    rear_to_front,
+    rear_to_centre,
+    speed,
+    cruise_speed,
+    half_width,
+    ego_length,
+    detected,
+    estimate,
+    radius,
+    vru_paths,
+    vru_offsets,
+    kind,
+    p,
+    tracks,
+    station,
+    path_station,
+    yielding,
+    mode,
+    required,
+    last_plan,
+    command,
+    scratch,
+):  # pragma: no cover (compiled)
+    """`_predictive_step` for variant b."""
+    K = detected.shape[1]
+    v = speed[b]
+    horizon = p[b, _HORIZON]
+    # how far along its route the ego can get within the planning window (for the reachability screen)
+    reach_ego = max(v, cruise_speed[b]) * (horizon + p[b, _FOLLOW_GAP] + p[b, _MARGIN_T]) + ego_length[b]
+    plan, plan_now, ttc, binding_lead, threat = np.inf, np.inf, np.inf, False, False
+    bounds = scratch[b]  # [5], filled by occupancy_bounds
+    # the new plan starts once the command has ramped down to the last plan (jerk-aware planning)
+    comfort = p[b, _COMFORT_DECEL]
+    ramp = p[b, _COMFORT_JERK] if last_plan[b] >= -comfort else p[b, _EMERGENCY_JERK]
+    delay, ahead, plan_speed = plan_start(v, command[b], max(last_plan[b], -p[b, _EMERGENCY]), ramp)
+    for k in range(K):
+        was_known = t - tracks[b, k, 0] <= p[b, _MEMORY]
+        known, x, y, vx, vy, ax, ay = update_track(t, detected[b, k], estimate, b, k, p[b, _MEMORY], tracks[b, k])
+        if not known:
+            yielding[b, k] = False
             continue
-        stopped = v <= STANDSTILL_MPS
-        previous, jerk = command[b], p[b, _COMFORT_JERK]
-        # braking beyond the comfort limit: when even a plan applied at once would need it (the ramp-aware plan
-        # may exceed the limit by the ramp's delay alone); not in the last metre per second of a stop
-        beyond = threat and v >= EMERGENCY_MIN_SPEED_MPS and plan_now < -comfort
-        held = mode[b] == EMERGENCY_BRAKE and threat and not stopped and plan < -EMERGENCY_EXIT * comfort
-        if beyond or held:
-            mode[b] = EMERGENCY_BRAKE
-            if plan <= -p[b, _EMERGENCY]:  # no time for a ramp: full braking at once
-                command[b] = -p[b, _EMERGENCY]
-                continue
-            target, jerk = plan, p[b, _EMERGENCY_JERK]
+        r = radius[b, k]
+        guess = warm_station(route, offsets[b], was_known, x, y, station[b, k])
+        s_now, _, lead, _, _, _, _ = analyse_vru(
+            route, offsets[b], guess, front_station[b], front_station[b], half_width[b], r, p[b, _MARGIN_M],
+            ENTRY_HORIZON_S,
+            x, y, vx, vy, 0.0, 0.0,
+        )  # fmt: skip
+        station[b, k] = s_now
+        ttc = min(
+            ttc,
+            route_ttc(
+                route, offsets[b], front_station[b] - rear_to_front[b], v, rear_to_centre[b],
+                0.5 * ego_length[b], half_width[b], x, y, vx, vy, 0.0, r, p[b, _EMERGENCY_TTC],
+            ),
+        )  # fmt: skip
+        v_vru = np.sqrt(vx * vx + vy * vy)
+        if v_vru > 1e-6:
+            ux, uy = vx / v_vru, vy / v_vru
+        else:  # at rest: it would set off along its acceleration
+            a_abs = np.sqrt(ax * ax + ay * ay)
+            ux, uy = (ax / a_abs, ay / a_abs) if a_abs > 1e-6 else (0.0, 0.0)
+        sigma = 0.0
+        if kind[b] == PATH:
+            sigma, ux, uy = path_station_of(vru_paths, vru_offsets[b, k], was_known, path_station[b, k], x, y)
+            path_station[b, k] = sigma
+        accel = ax * ux + ay * uy
+        reach_vru = v_vru * horizon + 0.5 * max(accel, 0.0) * horizon * horizon
+        dx, dy = x - front_x[b], y - front_y[b]
+        if np.sqrt(dx * dx + dy * dy) > reach_ego + reach_vru + half_width[b] + r + p[b, _MARGIN_M]:
+            yielding[b, k] = False  # cannot reach the part of the route the ego drives within the window
+            continue
+        bounds[0], bounds[1], bounds[2], bounds[3], bounds[4] = 0.0, 1.0, np.inf, -np.inf, np.inf
+        margin = p[b, _FOLLOW_GAP] if lead else p[b, _MARGIN_T]
+        profiles = 2 if (p[b, _ENVELOPE] > 0.5 and abs(accel) > 1e-3) else 1
+        for profile in range(profiles):
+            occupancy_bounds(
+                route, offsets[b], s_now, kind[b], vru_paths, vru_offsets[b, k], sigma, x, y, ux, uy,
+                v_vru, accel if profile == 1 else 0.0, horizon, p[b, _STEP], half_width[b], p[b, _MARGIN_M], r,
+                front_station[b], v, ego_length[b], p[b, _MARGIN_T],
+                (margin, p[b, _STOP_GAP], delay, ahead, plan_speed, cruise_speed[b]), bounds,
+            )  # fmt: skip
+        if bounds[0] < 0.5:
+            yielding[b, k] = False  # it does not occupy the corridor ahead within the horizon
+            continue
+        if bounds[1] > 0.5 and not yielding[b, k]:
+            continue  # the ego passes first
+        yielding[b, k] = True
+        threat = True
+        if bounds[2] < plan:
+            plan, binding_lead = bounds[2], lead
+        plan_now = min(plan_now, bounds[4])
+
+    last_plan[b] = plan if threat else np.inf
+    cruise = p[b, _CRUISE_GAIN] * (cruise_speed[b] - v)
+    cruise = min(max(cruise, -comfort), p[b, _CRUISE_ACCEL])
+    required[b] = max(-plan, 0.0) if threat else 0.0
+    if ttc <= p[b, _EMERGENCY_TTC]:
+        mode[b] = EMERGENCY_BRAKE
+        command[b] = -p[b, _EMERGENCY]
+        return
+    stopped = v <= STANDSTILL_MPS
+    previous, jerk = command[b], p[b, _COMFORT_JERK]
+    # braking beyond the comfort limit: when even a plan applied at once would need it (the ramp-aware plan
+    # may exceed the limit by the ramp's delay alone); not in the last metre per second of a stop
+    beyond = threat and v >= EMERGENCY_MIN_SPEED_MPS and plan_now < -comfort
+    held = mode[b] == EMERGENCY_BRAKE and threat and not stopped and plan < -EMERGENCY_EXIT * comfort
+    if beyond or held:
+        mode[b] = EMERGENCY_BRAKE
+        if plan <= -p[b, _EMERGENCY]:  # no time for a ramp: full braking at once
+            command[b] = -p[b, _EMERGENCY]
+            return
+        target, jerk = plan, p[b, _EMERGENCY_JERK]
+    else:
+        # after braking beyond the comfort limit the ramp starts at that limit (the extra brake is released)
+        previous = max(previous, -comfort)
+        if not threat or plan >= cruise:
+            mode[b] = CRUISE
+            target = cruise
         else:
-            # after braking beyond the comfort limit the ramp starts at that limit (the extra brake is released)
-            previous = max(previous, -comfort)
-            if not threat or plan >= cruise:
-                mode[b] = CRUISE
-                target = cruise
-            else:
-                target = max(plan, -comfort)
-                mode[b] = FOLLOW if binding_lead else YIELD
-                if stopped and plan < MOVE_OFF_MPS2:  # wait until the VRU has cleared or is far enough ahead
-                    target = min(target, 0.0)
-                    mode[b] = STOP
-            if stopped and target > 0.0:
-                previous = max(previous, 0.0)  # moving off: the brake held at standstill is released at once
-        step = jerk * dt
-        command[b] = previous + min(max(target - previous, -step), step)
+            target = max(plan, -comfort)
+            mode[b] = FOLLOW if binding_lead else YIELD
+            if stopped and plan < MOVE_OFF_MPS2:  # wait until the VRU has cleared or is far enough ahead
+                target = min(target, 0.0)
+                mode[b] = STOP
+        if stopped and target > 0.0:
+            previous = max(previous, 0.0)  # moving off: the brake held at standstill is released at once
+    step = jerk * dt
+    command[b] = previous + min(max(target - previous, -step), step)

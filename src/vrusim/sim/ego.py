@@ -107,35 +107,98 @@ def _advance(
     centre_y,
 ):  # pragma: no cover (compiled)
     for b in prange(x.shape[0]):
-        # lateral: track the route from the current pose
-        s, px, py, tx, ty, kappa = project_point(path, offsets[b], station[b], x[b], y[b], 1)
-        lateral = tx * (y[b] - py) - ty * (x[b] - px)
-        sin_heading_error = tx * hy[b] - ty * hx[b]
-        turn_rate = kappa - k_lat[b] * lateral - k_head[b] * sin_heading_error
-        turn_rate = min(max(turn_rate, -max_kappa[b]), max_kappa[b])
-        # longitudinal: clip, lag, jerk limit
-        wanted = min(max(command[b], -max_decel[b]), max_accel[b])
-        if lag[b] > 0.0:
-            wanted = actuator[b] + (wanted - actuator[b]) * min(dt / lag[b], 1.0)
-        change = min(max(wanted - actuator[b], -max_jerk[b] * dt), max_jerk[b] * dt)
-        act = actuator[b] + change
-        v = speed[b]
-        v_new = v + act * dt
-        if v_new < 0.0:  # stops inside the step
-            distance = v * v / (2.0 * max(-act, 1e-12))
-            v_new = 0.0
-        else:
-            distance = (v + v_new) * 0.5 * dt
-        turn = turn_rate * distance
-        mx, my = rotate(hx[b], hy[b], 0.5 * turn)
-        x[b] += distance * mx
-        y[b] += distance * my
-        hx[b], hy[b] = rotate(hx[b], hy[b], turn)
-        accel[b] = (v_new - v) / dt
-        speed[b] = v_new
-        actuator[b] = act
-        station[b] = s + distance
-        curvature[b] = turn_rate
-        lateral_error[b] = lateral
-        front_x[b], front_y[b] = x[b] + rear_to_front[b] * hx[b], y[b] + rear_to_front[b] * hy[b]
-        centre_x[b], centre_y[b] = x[b] + rear_to_centre[b] * hx[b], y[b] + rear_to_centre[b] * hy[b]
+        ego_variant(
+            b,
+            path,
+            offsets,
+            k_lat,
+            k_head,
+            max_kappa,
+            max_accel,
+            max_decel,
+            lag,
+            max_jerk,
+            dt,
+            command,
+            x,
+            y,
+            hx,
+            hy,
+            speed,
+            accel,
+            actuator,
+            station,
+            curvature,
+            lateral_error,
+            rear_to_front,
+            rear_to_centre,
+            front_x,
+            front_y,
+            centre_x,
+            centre_y,
+        )
+
+
+@njit(cache=True, inline="always")
+def ego_variant(
+    b,
+    path,
+    offsets,
+    k_lat,
+    k_head,
+    max_kappa,
+    max_accel,
+    max_decel,
+    lag,
+    max_jerk,
+    dt,
+    command,
+    x,
+    y,
+    hx,
+    hy,
+    speed,
+    accel,
+    actuator,
+    station,
+    curvature,
+    lateral_error,
+    rear_to_front,
+    rear_to_centre,
+    front_x,
+    front_y,
+    centre_x,
+    centre_y,
+):  # pragma: no cover (compiled)
+    """`_advance` for variant b."""
+    s, px, py, tx, ty, kappa = project_point(path, offsets[b], station[b], x[b], y[b], 1)
+    lateral = tx * (y[b] - py) - ty * (x[b] - px)
+    sin_heading_error = tx * hy[b] - ty * hx[b]
+    turn_rate = kappa - k_lat[b] * lateral - k_head[b] * sin_heading_error
+    turn_rate = min(max(turn_rate, -max_kappa[b]), max_kappa[b])
+    # longitudinal: clip, lag, jerk limit
+    wanted = min(max(command[b], -max_decel[b]), max_accel[b])
+    if lag[b] > 0.0:
+        wanted = actuator[b] + (wanted - actuator[b]) * min(dt / lag[b], 1.0)
+    change = min(max(wanted - actuator[b], -max_jerk[b] * dt), max_jerk[b] * dt)
+    act = actuator[b] + change
+    v = speed[b]
+    v_new = v + act * dt
+    if v_new < 0.0:  # stops inside the step
+        distance = v * v / (2.0 * max(-act, 1e-12))
+        v_new = 0.0
+    else:
+        distance = (v + v_new) * 0.5 * dt
+    turn = turn_rate * distance
+    mx, my = rotate(hx[b], hy[b], 0.5 * turn)
+    x[b] += distance * mx
+    y[b] += distance * my
+    hx[b], hy[b] = rotate(hx[b], hy[b], turn)
+    accel[b] = (v_new - v) / dt
+    speed[b] = v_new
+    actuator[b] = act
+    station[b] = s + distance
+    curvature[b] = turn_rate
+    lateral_error[b] = lateral
+    front_x[b], front_y[b] = x[b] + rear_to_front[b] * hx[b], y[b] + rear_to_front[b] * hy[b]
+    centre_x[b], centre_y[b] = x[b] + rear_to_centre[b] * hx[b], y[b] + rear_to_centre[b] * hy[b]

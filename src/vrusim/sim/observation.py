@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vrusim.geometry.path_table import PathTable
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.v2x.messages import V2xMessages
 
 SOURCE_SENSOR = 1
@@ -120,14 +120,19 @@ def fuse(
 
 @batch_kernel
 def _fuse(sensed, truth, sensor_age, received, message, age, detected, source, out):  # pragma: no cover (compiled)
-    B, K = sensed.shape
-    for b in prange(B):
-        for k in range(K):
-            detected[b, k] = sensed[b, k] or received[b, k]
-            source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
-            for row in range(6):
-                out[row, b, k] = truth[row, b, k] if sensed[b, k] else message[row, b, k]
-            if sensed[b, k]:  # a delayed report is predicted to now at constant velocity, like a V2X track
-                out[0, b, k] += truth[2, b, k] * sensor_age[b]
-                out[1, b, k] += truth[3, b, k] * sensor_age[b]
-            out[6, b, k] = sensor_age[b] if sensed[b, k] else age[b, k]
+    for b in prange(sensed.shape[0]):
+        fuse_variant(b, sensed, truth, sensor_age, received, message, age, detected, source, out)
+
+
+@njit(cache=True, inline="always")
+def fuse_variant(b, sensed, truth, sensor_age, received, message, age, detected, source, out):  # pragma: no cover
+    """`fuse` for variant b."""
+    for k in range(sensed.shape[1]):
+        detected[b, k] = sensed[b, k] or received[b, k]
+        source[b, k] = (SOURCE_SENSOR if sensed[b, k] else 0) + (SOURCE_V2X if received[b, k] else 0)
+        for row in range(6):
+            out[row, b, k] = truth[row, b, k] if sensed[b, k] else message[row, b, k]
+        if sensed[b, k]:  # a delayed report is predicted to now at constant velocity, like a V2X track
+            out[0, b, k] += truth[2, b, k] * sensor_age[b]
+            out[1, b, k] += truth[3, b, k] * sensor_age[b]
+        out[6, b, k] = sensor_age[b] if sensed[b, k] else age[b, k]

@@ -130,15 +130,20 @@ def occlude(ax, ay, px, py, radius, count, ox, oy, ohx, ohy, ohl, ohw, seen):  #
 
     Variants without obstacles, and VRUs not seen already, are skipped.
     """
-    B, K = px.shape
-    for b in prange(B):
-        if count[b] == 0:
-            continue
-        for k in range(K):
-            if seen[b, k]:
-                seen[b, k] = footprint_visible(
-                    ax[b], ay[b], px[b, k], py[b, k], radius[b, k], b, count[b], ox, oy, ohx, ohy, ohl, ohw
-                )
+    for b in prange(px.shape[0]):
+        occlude_variant(b, ax, ay, px, py, radius, count, ox, oy, ohx, ohy, ohl, ohw, seen)
+
+
+@njit(cache=True, inline="always")
+def occlude_variant(b, ax, ay, px, py, radius, count, ox, oy, ohx, ohy, ohl, ohw, seen):  # pragma: no cover
+    """`occlude` for variant b."""
+    if count[b] == 0:
+        return
+    for k in range(px.shape[1]):
+        if seen[b, k]:
+            seen[b, k] = footprint_visible(
+                ax[b], ay[b], px[b, k], py[b, k], radius[b, k], b, count[b], ox, oy, ohx, ohy, ohl, ohw
+            )
 
 
 @njit(cache=True)

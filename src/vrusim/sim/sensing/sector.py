@@ -43,26 +43,27 @@ def _distances(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, px, py):  # 
     return out
 
 
+@njit(cache=True, inline="always")
+def perceived_variant(
+    b, apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out
+):  # pragma: no cover (compiled)
+    """`out[b, :]`: which VRUs of variant b its sector covers (before occlusion)."""
+    for k in range(px.shape[1]):
+        out[b, k] = (
+            enabled[b]
+            and sector_distance(
+                px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b], range_m[b], cos_half[b], sin_half[b]
+            )
+            <= radius[b, k]
+        )
+
+
 @batch_kernel
 def _perceived(
     apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out
 ):  # pragma: no cover (compiled)
-    B, K = px.shape
-    for b in prange(B):
-        for k in range(K):
-            out[b, k] = (
-                enabled[b]
-                and sector_distance(
-                    px[b, k] - apex_x[b],
-                    py[b, k] - apex_y[b],
-                    hx[b],
-                    hy[b],
-                    range_m[b],
-                    cos_half[b],
-                    sin_half[b],
-                )
-                <= radius[b, k]
-            )
+    for b in prange(px.shape[0]):
+        perceived_variant(b, apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out)
 
 
 def sense(params, front_x: np.ndarray, front_y: np.ndarray, ego, vrus) -> np.ndarray:

@@ -22,7 +22,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
@@ -129,35 +129,75 @@ def _observe(
     detected,
     estimate,
 ):  # pragma: no cover (compiled)
-    B, K = visible.shape
+    for b in prange(visible.shape[0]):
+        observe_variant(
+            b,
+            step,
+            visible,
+            truth,
+            seed,
+            latency,
+            period,
+            probability,
+            position_sigma,
+            velocity_sigma,
+            seen,
+            history,
+            held,
+            held_estimate,
+            detected,
+            estimate,
+        )
+
+
+@njit(cache=True, inline="always")
+def observe_variant(
+    b,
+    step,
+    visible,
+    truth,
+    seed,
+    latency,
+    period,
+    probability,
+    position_sigma,
+    velocity_sigma,
+    seen,
+    history,
+    held,
+    held_estimate,
+    detected,
+    estimate,
+):  # pragma: no cover (compiled)
+    """`_observe` for variant b (`slot` = step % depth of the ring buffer)."""
+    K = visible.shape[1]
     depth = seen.shape[0]
     slot = step % depth
-    for b in prange(B):
+    for k in range(K):
+        seen[slot, b, k] = visible[b, k]
+        for row in range(6):
+            history[slot, row, b, k] = truth[row, b, k]
+    measured = step - latency[b]  # the step whose frame would be reported now
+    if measured < 0:  # nothing reported yet: the oldest truth (step 0), flagged not detected
         for k in range(K):
-            seen[slot, b, k] = visible[b, k]
+            held[b, k] = False
             for row in range(6):
-                history[slot, row, b, k] = truth[row, b, k]
-        measured = step - latency[b]  # the step whose frame would be reported now
-        if measured < 0:  # nothing reported yet: the oldest truth (step 0), flagged not detected
-            for k in range(K):
-                held[b, k] = False
-                for row in range(6):
-                    held_estimate[row, b, k] = history[0, row, b, k]
-        elif measured % period[b] == 0:  # a new frame: detection draw and noise keyed by its step
-            old = measured % depth
-            for k in range(K):
-                held[b, k] = seen[old, b, k] and uniform(seed[b], measured, STREAM_SENSOR_DETECT, k) < probability[b]
-                for row in range(6):
-                    held_estimate[row, b, k] = history[old, row, b, k]
-                for axis in range(NOISY_ROWS):
-                    sigma = position_sigma[b] if axis < 2 else velocity_sigma[b]
-                    if sigma > 0.0:
-                        z = normal(seed[b], measured, STREAM_SENSOR_NOISE, NOISY_ROWS * k + axis)
-                        held_estimate[axis, b, k] += sigma * z
+                held_estimate[row, b, k] = history[0, row, b, k]
+    elif measured % period[b] == 0:  # a new frame: detection draw and noise keyed by its step
+        old = measured % depth
         for k in range(K):
-            detected[b, k] = held[b, k]
+            held[b, k] = seen[old, b, k] and uniform(seed[b], measured, STREAM_SENSOR_DETECT, k) < probability[b]
             for row in range(6):
-                estimate[row, b, k] = held_estimate[row, b, k]
+                held_estimate[row, b, k] = history[old, row, b, k]
+            for axis in range(NOISY_ROWS):
+                sigma = position_sigma[b] if axis < 2 else velocity_sigma[b]
+                if sigma > 0.0:
+                    z = normal(seed[b], measured, STREAM_SENSOR_NOISE, NOISY_ROWS * k + axis)
+                    held_estimate[axis, b, k] += sigma * z
+    for k in range(K):
+        detected[b, k] = held[b, k]
+        for row in range(6):
+            estimate[row, b, k] = held_estimate[row, b, k]
 
 
 def all_ideal(params: BatchParams) -> bool:

@@ -185,55 +185,129 @@ def channel_step(
     age,
 ):  # pragma: no cover (compiled)
     """Advance the channel of every variant to step n and write what each ego knows (received, out_kin, age)."""
-    B, K = covered.shape
-    for b in prange(B):
-        t = n * dt
-        for k in range(K):
-            if covered[b, k]:
-                if not was_covered[b, k]:
-                    force[b, k] = True
-                if _wants_message(n, b, k, mode[b], cfg, last_gen, due, force[b, k], ref, kin):
-                    generated[b, k] += 1
-                    last_gen[b, k] = n
-                    force[b, k] = False
-                    for row in range(4):
-                        ref[b, k, row] = kin[row, b, k]
-                    # periodic schedule: the next slot, or a fresh start after a skipped slot (VRU not covered)
-                    on_time = n < due[b, k] + 1.0 - _STEP_TOLERANCE
-                    due[b, k] = (due[b, k] if on_time else n) + cfg[b, CFG_PERIOD_STEPS]
-                    lost = _lost(
-                        n, b, k, seed[b], loss_model[b], loss_params, link_state, link_distance[b], external_lost
-                    )
-                    if in_range[b, k] and not lost:
-                        delay = cfg[b, CFG_LATENCY_S]
-                        if cfg[b, CFG_JITTER_S] > 0.0:
-                            delay += cfg[b, CFG_JITTER_S] * uniform(seed[b], n, STREAM_V2X_JITTER, k)
-                        due_step = n + math.ceil(delay / dt - _TIME_TOLERANCE)
-                        if not (
-                            _in_outage(t, b, outage_start, outage_end, outage_count)
-                            or _in_outage(due_step * dt, b, outage_start, outage_end, outage_count)
-                        ):
-                            _push(n, due_step, b, k, seed[b], cfg, kin, buf_gen, buf_due, buf_kin, buf_head, buf_count)
-            was_covered[b, k] = covered[b, k]
-            _take_newest_due(n, b, k, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered)
-            g = track_gen[b, k]
-            if g >= 0 and (n - g) * dt > cfg[b, CFG_MAX_AGE_S] + _TIME_TOLERANCE:
-                track_gen[b, k] = -1
-                g = -1
-            if g < 0:  # nothing known: pass the sent values on unread, as the ideal channel does
-                received[b, k] = False
-                age[b, k] = 0.0
-                for row in range(6):
-                    out_kin[row, b, k] = kin[row, b, k]
-                continue
-            a = (n - g) * dt
-            received[b, k] = True
-            age[b, k] = a
+    for b in prange(covered.shape[0]):
+        channel_variant(
+            b,
+            n,
+            dt,
+            seed,
+            mode,
+            loss_model,
+            cfg,
+            loss_params,
+            outage_start,
+            outage_end,
+            outage_count,
+            covered,
+            in_range,
+            kin,
+            link_distance,
+            last_gen,
+            due,
+            force,
+            ref,
+            was_covered,
+            link_state,
+            buf_gen,
+            buf_due,
+            buf_kin,
+            buf_head,
+            buf_count,
+            track_gen,
+            track_kin,
+            generated,
+            delivered,
+            external_lost,
+            received,
+            out_kin,
+            age,
+        )
+
+
+@njit(cache=True, _nrt=False)  # not inlined: a call of over 30 arguments is a *args call to numba
+def channel_variant(
+    b,
+    n,
+    dt,
+    seed,
+    mode,
+    loss_model,
+    cfg,
+    loss_params,
+    outage_start,
+    outage_end,
+    outage_count,
+    covered,
+    in_range,
+    kin,
+    link_distance,
+    last_gen,
+    due,
+    force,
+    ref,
+    was_covered,
+    link_state,
+    buf_gen,
+    buf_due,
+    buf_kin,
+    buf_head,
+    buf_count,
+    track_gen,
+    track_kin,
+    generated,
+    delivered,
+    external_lost,
+    received,
+    out_kin,
+    age,
+):  # pragma: no cover (compiled)
+    """`channel_step` for variant b."""
+    K = covered.shape[1]
+    t = n * dt
+    for k in range(K):
+        if covered[b, k]:
+            if not was_covered[b, k]:
+                force[b, k] = True
+            if _wants_message(n, b, k, mode[b], cfg, last_gen, due, force[b, k], ref, kin):
+                generated[b, k] += 1
+                last_gen[b, k] = n
+                force[b, k] = False
+                for row in range(4):
+                    ref[b, k, row] = kin[row, b, k]
+                # periodic schedule: the next slot, or a fresh start after a skipped slot (VRU not covered)
+                on_time = n < due[b, k] + 1.0 - _STEP_TOLERANCE
+                due[b, k] = (due[b, k] if on_time else n) + cfg[b, CFG_PERIOD_STEPS]
+                lost = _lost(n, b, k, seed[b], loss_model[b], loss_params, link_state, link_distance[b], external_lost)
+                if in_range[b, k] and not lost:
+                    delay = cfg[b, CFG_LATENCY_S]
+                    if cfg[b, CFG_JITTER_S] > 0.0:
+                        delay += cfg[b, CFG_JITTER_S] * uniform(seed[b], n, STREAM_V2X_JITTER, k)
+                    due_step = n + math.ceil(delay / dt - _TIME_TOLERANCE)
+                    if not (
+                        _in_outage(t, b, outage_start, outage_end, outage_count)
+                        or _in_outage(due_step * dt, b, outage_start, outage_end, outage_count)
+                    ):
+                        _push(n, due_step, b, k, seed[b], cfg, kin, buf_gen, buf_due, buf_kin, buf_head, buf_count)
+        was_covered[b, k] = covered[b, k]
+        _take_newest_due(n, b, k, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered)
+        g = track_gen[b, k]
+        if g >= 0 and (n - g) * dt > cfg[b, CFG_MAX_AGE_S] + _TIME_TOLERANCE:
+            track_gen[b, k] = -1
+            g = -1
+        if g < 0:  # nothing known: pass the sent values on unread, as the ideal channel does
+            received[b, k] = False
+            age[b, k] = 0.0
             for row in range(6):
-                out_kin[row, b, k] = track_kin[b, k, row]
-            if n > g:  # constant-velocity prediction over the message's age
-                out_kin[0, b, k] += track_kin[b, k, 2] * a
-                out_kin[1, b, k] += track_kin[b, k, 3] * a
+                out_kin[row, b, k] = kin[row, b, k]
+            return
+        a = (n - g) * dt
+        received[b, k] = True
+        age[b, k] = a
+        for row in range(6):
+            out_kin[row, b, k] = track_kin[b, k, row]
+        if n > g:  # constant-velocity prediction over the message's age
+            out_kin[0, b, k] += track_kin[b, k, 2] * a
+            out_kin[1, b, k] += track_kin[b, k, 3] * a
 
 
 @batch_kernel

@@ -14,7 +14,7 @@ from typing import Protocol
 
 import numpy as np
 
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.params import BatchParams
 
 
@@ -87,12 +87,21 @@ def rsu_broadcast(params: BatchParams, ego_x, ego_y, vru_kinematics) -> V2xMessa
 def _coverage(
     enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
 ):  # pragma: no cover (compiled)
-    B, K = vru_x.shape
-    for b in prange(B):
-        ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
-        link[b] = np.sqrt(ex * ex + ey * ey)
-        in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
-        for k in range(K):
-            vx, vy = vru_x[b, k] - rsu_x[b], vru_y[b, k] - rsu_y[b]
-            covered[b, k] = enabled[b] and valid[b, k] and vx * vx + vy * vy <= coverage[b] * coverage[b]
-            received[b, k] = in_range and covered[b, k]
+    for b in prange(vru_x.shape[0]):
+        coverage_variant(
+            b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
+        )
+
+
+@njit(cache=True, inline="always")
+def coverage_variant(
+    b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
+):  # pragma: no cover (compiled)
+    """What the RSU sends to variant b's ego (`rsu_broadcast`)."""
+    ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
+    link[b] = np.sqrt(ex * ex + ey * ey)
+    in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
+    for k in range(vru_x.shape[1]):
+        vx, vy = vru_x[b, k] - rsu_x[b], vru_y[b, k] - rsu_y[b]
+        covered[b, k] = enabled[b] and valid[b, k] and vx * vx + vy * vy <= coverage[b] * coverage[b]
+        received[b, k] = in_range and covered[b, k]

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from vrusim.geometry.path_table import locate_point
-from vrusim.kernels import batch_kernel, prange
+from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.params import BatchParams
 from vrusim.sim.state import VruState
 from vrusim.sim.vru.registry import POINT_MASS, attach_vru_step
@@ -92,36 +92,94 @@ def _advance(
     kin,
     stopped_at,
 ):  # pragma: no cover
-    B, K = station.shape
-    for b in prange(B):
-        for k in range(K):
-            step = dt
-            if not started[b, k]:
-                started[b, k], lead = fire_trigger(
-                    kind, value, point_x, point_y, b, k, t, front_x, front_y, ego_speed, ego_station, stopped_at
-                )
-                if started[b, k]:
-                    # start the profile where the trigger was met, not at the step boundary: back up to that
-                    # instant at the initial speed and integrate this step over dt + lead
-                    lead = min(max(lead, 0.0), dt)
-                    started_at[b, k] = t - lead
-                    station[b, k] -= speed[b, k] * lead
-                    step = dt + lead
-            limit = max_accel[b, k]
-            if not started[b, k]:
-                target = initial_speed[b, k]
-            elif t >= started_at[b, k] + brake_after[b, k] - 1e-9:
-                target, limit = 0.0, brake_decel[b, k]
-            else:
-                target = top[b, k]
-            accel = (target - speed[b, k]) / max(tau[b, k], step)
-            accel = min(max(accel, -limit), limit)
-            new_speed = speed[b, k] + accel * step
-            station[b, k] += (speed[b, k] + new_speed) * 0.5 * step
-            speed[b, k] = new_speed
-            px, py, tx, ty, _ = locate_point(path, offsets[b, k], station[b, k])
-            kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
-            kin[4, b, k], kin[5, b, k] = accel * tx, accel * ty
+    for b in prange(station.shape[0]):
+        point_mass_variant(
+            b,
+            path,
+            offsets,
+            kind,
+            value,
+            point_x,
+            point_y,
+            top,
+            max_accel,
+            tau,
+            initial_speed,
+            brake_after,
+            brake_decel,
+            dt,
+            t,
+            front_x,
+            front_y,
+            ego_speed,
+            ego_station,
+            started,
+            started_at,
+            station,
+            speed,
+            kin,
+            stopped_at,
+        )
+
+
+@njit(cache=True, inline="always")
+def point_mass_variant(
+    b,
+    path,
+    offsets,
+    kind,
+    value,
+    point_x,
+    point_y,
+    top,
+    max_accel,
+    tau,
+    initial_speed,
+    brake_after,
+    brake_decel,
+    dt,
+    t,
+    front_x,
+    front_y,
+    ego_speed,
+    ego_station,
+    started,
+    started_at,
+    station,
+    speed,
+    kin,
+    stopped_at,
+):  # pragma: no cover (compiled)
+    """`_advance` for variant b."""
+    K = station.shape[1]
+    for k in range(K):
+        step = dt
+        if not started[b, k]:
+            started[b, k], lead = fire_trigger(
+                kind, value, point_x, point_y, b, k, t, front_x, front_y, ego_speed, ego_station, stopped_at
+            )
+            if started[b, k]:
+                # start the profile where the trigger was met, not at the step boundary: back up to that
+                # instant at the initial speed and integrate this step over dt + lead
+                lead = min(max(lead, 0.0), dt)
+                started_at[b, k] = t - lead
+                station[b, k] -= speed[b, k] * lead
+                step = dt + lead
+        limit = max_accel[b, k]
+        if not started[b, k]:
+            target = initial_speed[b, k]
+        elif t >= started_at[b, k] + brake_after[b, k] - 1e-9:
+            target, limit = 0.0, brake_decel[b, k]
+        else:
+            target = top[b, k]
+        accel = (target - speed[b, k]) / max(tau[b, k], step)
+        accel = min(max(accel, -limit), limit)
+        new_speed = speed[b, k] + accel * step
+        station[b, k] += (speed[b, k] + new_speed) * 0.5 * step
+        speed[b, k] = new_speed
+        px, py, tx, ty, _ = locate_point(path, offsets[b, k], station[b, k])
+        kin[0, b, k], kin[1, b, k], kin[2, b, k], kin[3, b, k] = px, py, new_speed * tx, new_speed * ty
+        kin[4, b, k], kin[5, b, k] = accel * tx, accel * ty
 
 
 attach_vru_step(POINT_MASS, advance_vrus)

@@ -1,0 +1,489 @@
+"""The compiled step: a whole run of a built-in planner in one compiled call, variant by variant.
+
+`simulate` (vrusim.engine.simulate) steps the batch in lock-step and calls the planner from Python every step.
+For the built-in planners `fsm`, `none`, `aeb` and `predictive` the same step exists compiled: one kernel runs
+each variant's whole horizon (sensing, sensor model, RSU and channel, fusion, planner, VRU and ego motion,
+contact, TTC, the streamed metrics and the stop rules) without returning to Python, variants spread over the
+cores (threads: the kernels release the GIL). Each part is the very per-variant function the lock-step kernels
+loop over (`*_variant`), called in the same order, so both paths give bit-identical results; a variant simply
+stops at its own stop step instead of waiting to be compacted away.
+
+What the compiled step does not cover runs the per-step path (`compiled_support` says why): a trace, a planner
+of another class (a subclass of a built-in too), a channel passed in, drivers and doors (`ego.driver`,
+`ego.door`), VRU motion models other than `point_mass`, and plug-in V2X loss models.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
+import numpy as np
+
+from vrusim.engine.accumulators import (
+    FIRST_WARNING,
+    PREV_TTC,
+    SURROGATE_START,
+    TRAVEL,
+    WARNING_TTC,
+    RunMetrics,
+    record_detection_variant,
+    record_step_variant,
+)
+from vrusim.engine.surrogates import surrogates_variant
+from vrusim.geometry.contact import clearance_variant
+from vrusim.geometry.ttc import ttc_variant
+from vrusim.kernels import njit
+from vrusim.planners import aeb
+from vrusim.planners.aeb import AebPlanner, aeb_variant
+from vrusim.planners.base import HoldSpeedPlanner, PlannerBase
+from vrusim.planners.conflict import TRACK_SIZE
+from vrusim.planners.fsm import FsmPlanner, fsm_variant
+from vrusim.planners.predictive import PredictivePlanner, predictive_variant
+from vrusim.sim.ego import ego_variant
+from vrusim.sim.observation import fuse_variant
+from vrusim.sim.params import BatchParams
+from vrusim.sim.sensing.occlusion import occlude_variant
+from vrusim.sim.sensing.sector import perceived_variant
+from vrusim.sim.sensing.sensor_model import observe_variant
+from vrusim.sim.state import initial_ego, initial_vrus
+from vrusim.sim.v2x.channel import RealisticChannel, make_channel
+from vrusim.sim.v2x.kernels import channel_variant
+from vrusim.sim.v2x.messages import coverage_variant
+from vrusim.sim.vru.motion import point_mass_variant
+from vrusim.sim.vru.point_mass import POINT_MASS
+
+COMPILED_PLANNERS: dict[type, str] = {
+    FsmPlanner: "fsm",
+    HoldSpeedPlanner: "none",
+    AebPlanner: "aeb",
+    PredictivePlanner: "predictive",
+}
+"""Planner classes with a compiled step (exactly these classes: a subclass may change `act`)."""
+TRANSITIONS_PER_VARIANT = 32
+"""Mode transitions each variant can record in one compiled run; a run that needs more is rerun with more room."""
+_OK, _BAD_COMMAND, _FULL = 0, 1, 2
+
+
+def compiled_support(batch: BatchParams, planner: object, channel: object, trace: bool) -> str | None:
+    """Why this run needs the per-step path (a short reason), or None when the compiled step can run it."""
+    if trace:
+        return "a trace is recorded"
+    if type(planner) not in COMPILED_PLANNERS:
+        return f"planner {type(planner).__name__} has no compiled step"
+    if channel is not None:
+        return "a channel object was passed in"
+    if batch.vru_motion != POINT_MASS:
+        return f"VRU motion model {batch.vru_motion!r}"
+    if batch.driver.has.any() or batch.door.has.any():
+        return "drivers or doors (ego.driver, ego.door)"
+    made = make_channel(batch)
+    if isinstance(made, RealisticChannel):
+        made.reset(batch)
+        if made.plugins:
+            return "a plug-in V2X loss model"
+    return None
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# one step of one variant, split where the planner acts
+
+
+@njit(cache=True, inline="always")
+def _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics):  # pragma: no cover (compiled)
+    """Sensing, sensor model, RSU, channel, fusion and first detections of variant b at step `step`
+    (`BatchStepper.observe`)."""
+    dt = world[0]
+    t = step * dt
+    enabled, range_m, cos_half, sin_half, has_obstacles, count, ox, oy, ohx, ohy, ohl, ohw = sensor[:12]
+    realistic_sensor, seed, latency, period, probability, pos_sigma, vel_sigma, seen, history, held, held_est = sensor[
+        12:
+    ]
+    kin, radius = vrus[17], vrus[12]
+    hx, hy, front_x, front_y, centre_x, centre_y = ego[2], ego[3], ego[10], ego[11], ego[12], ego[13]
+    visible, sensed, sensed_kin, sensor_age, sent, covered, link, received, msg_kin, msg_age = scratch[:10]
+    detected, source, estimate, zeros = scratch[10], scratch[11], scratch[12], scratch[20]
+    perceived_variant(
+        b, front_x, front_y, hx, hy, range_m, cos_half, sin_half, enabled, kin[0], kin[1], radius, visible
+    )
+    if has_obstacles:
+        occlude_variant(b, front_x, front_y, kin[0], kin[1], radius, count, ox, oy, ohx, ohy, ohl, ohw, visible)
+    if realistic_sensor:
+        observe_variant(
+            b, step, visible, kin, seed, latency, period, probability, pos_sigma, vel_sigma, seen, history, held,
+            held_est, sensed, sensed_kin,
+        )  # fmt: skip
+        since = max(step - latency[b], 0)
+        sensor_age[b] = (step - (since // period[b]) * period[b]) * dt
+    v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, realistic_channel = v2x[:7]
+    coverage_variant(
+        b, v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, centre_x, centre_y, kin[0], kin[1], sent, covered, link
+    )
+    if realistic_channel:
+        (
+            seed_c, mode, loss_model, cfg, loss_params, outage_start, outage_end, outage_count, last_gen, due,
+            force, ref, was_covered, link_state, buf_gen, buf_due, buf_kin, buf_head, buf_count, message_step,
+            track_kin, generated, delivered, external_lost,
+        ) = v2x[7:]  # fmt: skip
+        n = int(np.floor(t / dt + 0.5))  # round(t / dt), as the channel object computes it
+        channel_variant(
+            b, n, dt, seed_c, mode, loss_model, cfg, loss_params, outage_start, outage_end, outage_count, covered,
+            sent, kin, link, last_gen, due, force, ref, was_covered, link_state, buf_gen, buf_due, buf_kin,
+            buf_head, buf_count, message_step, track_kin, generated, delivered, external_lost, received, msg_kin,
+            msg_age,
+        )  # fmt: skip
+        got, got_kin, got_age = received, msg_kin, msg_age
+    else:
+        got, got_kin, got_age = sent, kin, zeros
+    if realistic_sensor:
+        fuse_variant(b, sensed, sensed_kin, sensor_age, got, got_kin, got_age, detected, source, estimate)
+        record_detection_variant(b, t, scratch[19], sensed, got, metrics[0])
+    else:
+        fuse_variant(b, visible, kin, sensor_age, got, got_kin, got_age, detected, source, estimate)
+        record_detection_variant(b, t, scratch[19], visible, got, metrics[0])
+
+
+@njit(cache=True, inline="always")
+def _mode_changed(b, step, old, new, metrics):  # pragma: no cover (compiled)
+    """Record a planner mode transition of variant b at step `step` (`RunMetrics.record_modes`); False when
+    the variant's transition buffer is full."""
+    first_mode, steps, olds, news, counts = metrics[4], metrics[5], metrics[6], metrics[7], metrics[8]
+    if old == new:
+        return True
+    i = counts[b]
+    if i >= steps.shape[1]:
+        return False
+    steps[b, i], olds[b, i], news[b, i] = step, old, new
+    counts[b] = i + 1
+    if np.isnan(first_mode[b, new]):
+        first_mode[b, new] = step * metrics[10]
+    return True
+
+
+@njit(cache=True, inline="always")
+def _advance(b, step, world, vrus, ego, scratch, metrics):  # pragma: no cover (compiled)
+    """VRU and ego motion under `scratch` command, contact, TTC, streamed metrics and stop rules of variant b
+    (`BatchStepper.advance`); return whether it still runs."""
+    dt, n_steps, duration, stop_on_collision, stop_at_route_end, path, offsets = world[:7]
+    k_lat, k_head, max_kappa, max_accel, max_decel, lag, max_jerk, rear_to_front, rear_to_centre = world[7:16]
+    half_length, half_width, route_length, threshold = world[16:20]
+    vru_path, vru_offset, kind, value, px, py, top, vru_accel, tau, initial, brake_after, brake_decel = vrus[:12]
+    radius, started, started_at, vru_station, vru_speed, kin, stopped_at = vrus[12:]
+    x, y, hx, hy, speed, accel, actuator, station, curvature, lateral = ego[:10]
+    front_x, front_y, centre_x, centre_y = ego[10:]
+    contact, ttc, moving, command, door_hit, active = (
+        scratch[13],
+        scratch[14],
+        scratch[15],
+        scratch[16],
+        scratch[18],
+        scratch[19],
+    )
+    values, collided = metrics[0], metrics[3]
+    t = step * dt
+    moving[b] = speed[b] > 0.0
+    point_mass_variant(
+        b, vru_path, vru_offset, kind, value, px, py, top, vru_accel, tau, initial, brake_after, brake_decel, dt,
+        t, front_x, front_y, speed, station, started, started_at, vru_station, vru_speed, kin, stopped_at,
+    )  # fmt: skip
+    ego_variant(
+        b, path, offsets, k_lat, k_head, max_kappa, max_accel, max_decel, lag, max_jerk, dt, command, x, y, hx, hy,
+        speed, accel, actuator, station, curvature, lateral, rear_to_front, rear_to_centre, front_x, front_y,
+        centre_x, centre_y,
+    )  # fmt: skip
+    t_next = (step + 1) * dt
+    clearance_variant(b, centre_x, centre_y, hx, hy, half_length, half_width, kin[0], kin[1], radius, contact)
+    ttc_variant(
+        b, centre_x, centre_y, hx, hy, half_length, half_width, speed, kin[0], kin[1], radius, kin[2], kin[3], ttc
+    )
+    record_step_variant(
+        b, t_next, dt, active, speed, accel, actuator, curvature, station, hx, hy, moving, route_length,
+        contact[0], contact[1], contact[2], ttc, kin, centre_x, centre_y, half_length, half_width, radius, door_hit,
+        values, collided,
+    )  # fmt: skip
+    surrogates_variant(
+        b, t_next, dt, active, speed, hx, hy, centre_x, centre_y, station, rear_to_centre, half_length, half_width,
+        radius, kin, contact[0], ttc, threshold, metrics[1], metrics[2],
+    )  # fmt: skip
+    if (stop_on_collision[b] and collided[b]) or (stop_at_route_end[b] and values[TRAVEL, b] >= 0.0):
+        stop = True
+    else:
+        stop = step + 1 >= n_steps or not t_next < duration[b] - 1e-9
+    return not stop
+
+
+@njit(cache=True, inline="always")
+def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
+    """Variant b stopped after `step` steps (or could not go on: `status`)."""
+    scratch[19][b] = False
+    metrics[9][b] = step
+    metrics[11][b] = status
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# one kernel per planner: the planner's step between `_observe` and `_advance`
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def _run_fsm(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+    table, tracks, station, mode, zone_length, ego_length = plan
+    dt, n_steps, path, offsets, rear_to_front, half_width = world[0], world[1], world[5], world[6], world[14], world[17]
+    cruise = world[20]
+    detected, estimate, command, front_station = scratch[10], scratch[12], scratch[16], scratch[17]
+    radius, ego_station, speed = vrus[12], ego[7], ego[4]
+    for b in range(first, stop):
+        for step in range(n_steps):
+            _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics)
+            old = mode[b]
+            front_station[b] = ego_station[b] + rear_to_front[b]
+            fsm_variant(
+                b, path, offsets, step * dt, front_station, speed, cruise, half_width, zone_length, ego_length,
+                detected, estimate, radius, table, tracks, station, mode, command,
+            )  # fmt: skip
+            if not np.isfinite(command[b]):
+                _finish(b, step, _BAD_COMMAND, scratch, metrics)
+                break
+            if not _mode_changed(b, step, old, mode[b], metrics):
+                _finish(b, step, _FULL, scratch, metrics)
+                break
+            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+                _finish(b, step + 1, _OK, scratch, metrics)
+                break
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def _run_none(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+    n_steps, command = world[1], scratch[16]
+    for b in range(first, stop):
+        for step in range(n_steps):
+            _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics)
+            command[b] = 0.0  # HoldSpeedPlanner without a driver
+            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+                _finish(b, step + 1, _OK, scratch, metrics)
+                break
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def _run_aeb(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+    table, tracks, mode, ttc_out, half_length, rear_to_centre, has_driver, driver_accel = plan
+    dt, n_steps, path, offsets, half_width, cruise = world[0], world[1], world[5], world[6], world[17], world[20]
+    detected, estimate, command = scratch[10], scratch[12], scratch[16]
+    radius, ego_station, speed, values = vrus[12], ego[7], ego[4], metrics[0]
+    for b in range(first, stop):
+        for step in range(n_steps):
+            _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics)
+            old = mode[b]
+            aeb_variant(
+                b, path, offsets, step * dt, ego_station, rear_to_centre, speed, cruise, half_length, half_width,
+                detected, estimate, radius, table, tracks, mode, ttc_out, has_driver, driver_accel, command,
+            )  # fmt: skip
+            if not np.isfinite(command[b]):
+                _finish(b, step, _BAD_COMMAND, scratch, metrics)
+                break
+            if not _mode_changed(b, step, old, mode[b], metrics):
+                _finish(b, step, _FULL, scratch, metrics)
+                break
+            if mode[b] >= aeb.WARNING and np.isnan(values[FIRST_WARNING, b]):  # RunMetrics.record_warning
+                values[FIRST_WARNING, b] = step * dt
+                values[WARNING_TTC, b] = values[PREV_TTC, b]
+            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+                _finish(b, step + 1, _OK, scratch, metrics)
+                break
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def _run_predictive(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+    (
+        table, kind, tracks, station, path_station, yielding, mode, required, last_plan, own_command, bounds,
+        vru_paths, vru_offsets, rear_to_centre, ego_length, front_x, front_y,
+    ) = plan  # fmt: skip
+    dt, n_steps, path, offsets, rear_to_front, half_width = world[0], world[1], world[5], world[6], world[14], world[17]
+    cruise = world[20]
+    detected, estimate, command, front_station = scratch[10], scratch[12], scratch[16], scratch[17]
+    radius, x, y, hx, hy, ego_station, speed = vrus[12], ego[0], ego[1], ego[2], ego[3], ego[7], ego[4]
+    for b in range(first, stop):
+        for step in range(n_steps):
+            _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics)
+            old = mode[b]
+            front_x[b] = x[b] + rear_to_front[b] * hx[b]
+            front_y[b] = y[b] + rear_to_front[b] * hy[b]
+            front_station[b] = ego_station[b] + rear_to_front[b]
+            predictive_variant(
+                b, path, offsets, step * dt, dt, front_x, front_y, front_station, rear_to_front, rear_to_centre,
+                speed, cruise, half_width, ego_length, detected, estimate, radius, vru_paths, vru_offsets, kind,
+                table, tracks, station, path_station, yielding, mode, required, last_plan, own_command, bounds,
+            )  # fmt: skip
+            command[b] = own_command[b]
+            if not np.isfinite(command[b]):
+                _finish(b, step, _BAD_COMMAND, scratch, metrics)
+                break
+            if not _mode_changed(b, step, old, mode[b], metrics):
+                _finish(b, step, _FULL, scratch, metrics)
+                break
+            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+                _finish(b, step + 1, _OK, scratch, metrics)
+                break
+
+
+_KERNELS = {"fsm": _run_fsm, "none": _run_none, "aeb": _run_aeb, "predictive": _run_predictive}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# packing the batch into the kernels' tuples
+
+
+def _c(array) -> np.ndarray:
+    return np.ascontiguousarray(array)
+
+
+def _new_tracks(size: int, slots: int) -> tuple[np.ndarray, np.ndarray]:
+    """`conflict.new_tracks` without an observation."""
+    tracks = np.zeros((size, slots, TRACK_SIZE))
+    tracks[..., 0] = -np.inf
+    return tracks, np.zeros((size, slots))
+
+
+def _planner_state(name: str, planner: PlannerBase, batch: BatchParams) -> tuple:
+    """The reset planner's per-variant state, in the order its kernel unpacks it."""
+    size, slots = batch.size, batch.vru_slots
+    if name == "fsm":
+        assert isinstance(planner, FsmPlanner)
+        planner.tracks, planner.station = _new_tracks(size, slots)
+        ego_length = 2.0 * batch.half_length_m
+        return (_c(planner.table), planner.tracks, planner.station, planner.mode, _c(planner.zone_length), ego_length)
+    if name == "aeb":
+        assert isinstance(planner, AebPlanner)
+        planner.tracks, _ = _new_tracks(size, slots)
+        return (
+            _c(planner.table), planner.tracks, planner.mode, planner.ttc_s, _c(planner.half_length),
+            _c(planner.rear_to_centre), np.zeros(size, dtype=bool), np.zeros(size),
+        )  # fmt: skip
+    if name == "predictive":
+        assert isinstance(planner, PredictivePlanner)
+        planner.tracks, planner.station = _new_tracks(size, slots)
+        return (
+            _c(planner.table), _c(planner.kind), planner.tracks, planner.station, planner.path_station,
+            planner.yielding, planner.mode, planner.required_decel_mps2, planner.plan, planner.command,
+            np.empty((size, 5)), planner.vru_paths, _c(planner.vru_path_offset), _c(planner.rear_to_centre),
+            _c(planner.ego_length), np.empty(size), np.empty(size),
+        )  # fmt: skip
+    return (np.zeros(1),)
+
+
+def _sensor_tuple(batch: BatchParams) -> tuple:
+    """Sector, obstacles and (realistic) sensor model settings and state."""
+    obstacles = batch.obstacles
+    sensor = batch.sensor
+    realistic = not bool(sensor.ideal.all())
+    shape = batch.vru_valid.shape
+    depth = int(sensor.latency_steps.max()) + 1 if realistic else 1
+    return (
+        _c(batch.sensor_enabled), _c(batch.sensor_range_m), _c(batch.sensor_cos_half), _c(batch.sensor_sin_half),
+        bool(obstacles.x_m.shape[1]), *(_c(a) for a in obstacles), realistic, _c(batch.seed),
+        _c(sensor.latency_steps), _c(sensor.frame_steps), _c(sensor.detection_probability),
+        _c(sensor.position_sigma_m), _c(sensor.velocity_sigma_mps), np.zeros((depth, *shape), dtype=bool),
+        np.zeros((depth, 6, *shape)), np.zeros(shape, dtype=bool), np.zeros((6, *shape)),
+    )  # fmt: skip
+
+
+def _v2x_tuple(batch: BatchParams) -> tuple:
+    """RSU settings and the channel's settings and state (a fresh `RealisticChannel`'s, unused when ideal)."""
+    channel = RealisticChannel()
+    channel.reset(batch)
+    realistic = isinstance(make_channel(batch), RealisticChannel)
+    return (
+        _c(batch.v2x_enabled), _c(batch.rsu_x_m), _c(batch.rsu_y_m), _c(batch.comm_range_m),
+        _c(batch.coverage_range_m), _c(batch.vru_valid), realistic, channel.seed, channel.mode, channel.loss_model,
+        _c(channel.cfg), _c(channel.loss_params), _c(channel.outage_start), _c(channel.outage_end),
+        channel.outage_count, channel.last_gen, channel.due, channel.force, channel.ref, channel.was_covered,
+        channel.link_state, channel.buf_gen, channel.buf_due, channel.buf_kin, channel.buf_head, channel.buf_count,
+        channel.message_step, channel.track_kin, channel.generated, channel.delivered, np.zeros((1, 1), dtype=bool),
+    )  # fmt: skip
+
+
+def run_compiled(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics) -> int | None:
+    """Run the batch with the planner's compiled step (the planner already reset), filling `metrics`; return
+    the number of steps the batch took, or None when a variant recorded more transitions than there was room
+    for (rerun it with the per-step path). A non-finite command is reported like the per-step path does.
+    """
+    name = COMPILED_PLANNERS[type(planner)]
+    size, slots = batch.size, batch.vru_slots
+    shape = (size, slots)
+    ego, vrus = initial_ego(batch), initial_vrus(batch)
+    world = (
+        batch.dt_s, batch.n_steps, _c(batch.duration_s), _c(batch.stop_on_collision), _c(batch.stop_at_route_end),
+        batch.routes.arrays, _c(batch.route_offset), _c(batch.lateral_gain), _c(batch.heading_gain),
+        _c(batch.max_curvature_per_m), _c(batch.max_accel_mps2), _c(batch.max_decel_mps2), _c(batch.lag_s),
+        _c(batch.max_jerk_mps3), _c(batch.rear_to_front_m), _c(batch.rear_to_centre_m), _c(batch.half_length_m),
+        _c(batch.half_width_m), _c(batch.route_length_m), _c(batch.tet_ttc_threshold_s), _c(batch.cruise_speed_mps),
+    )  # fmt: skip
+    vru_tuple = (
+        batch.vru_paths.arrays, _c(batch.vru_path_offset), _c(batch.trigger_kind), _c(batch.trigger_value),
+        _c(batch.trigger_x_m), _c(batch.trigger_y_m), _c(batch.vru_top_speed_mps), _c(batch.vru_max_accel_mps2),
+        _c(batch.vru_tau_s), _c(batch.vru_initial_speed_mps), _c(batch.vru_brake_after_s),
+        _c(batch.vru_brake_decel_mps2), _c(batch.vru_radius_m), vrus.started, vrus.started_at_s, vrus.station_m,
+        vrus.speed_mps, vrus.kinematics, vrus.ego_stopped_at_s,
+    )  # fmt: skip
+    ego_tuple = (
+        ego.x_m, ego.y_m, ego.heading_x, ego.heading_y, ego.speed_mps, ego.accel_mps2, ego.actuator_mps2,
+        ego.station_m, ego.curvature_per_m, ego.lateral_error_m, ego.front_x_m, ego.front_y_m, ego.centre_x_m,
+        ego.centre_y_m,
+    )  # fmt: skip
+    scratch = (
+        np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), np.zeros((6, *shape)), np.zeros(size),
+        np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), np.zeros(size), np.zeros(shape, dtype=bool),
+        np.zeros((6, *shape)), np.zeros(shape), np.zeros(shape, dtype=bool), np.zeros(shape, dtype=np.int8),
+        np.zeros((7, *shape)), np.full((3, *shape), np.inf), np.full(shape, np.inf), np.zeros(size, dtype=bool),
+        np.zeros(size), np.zeros(size), np.zeros(shape, dtype=bool), np.ones(size, dtype=bool), np.zeros(shape),
+    )  # fmt: skip
+    capacity = TRANSITIONS_PER_VARIANT
+    steps_run, status = np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int8)
+    metrics_tuple = (
+        metrics.values, metrics.values[SURROGATE_START:], metrics._per_vru, metrics.collided, metrics.first_mode_s,
+        np.zeros((size, capacity), dtype=np.int64), np.zeros((size, capacity), dtype=np.int8),
+        np.zeros((size, capacity), dtype=np.int8), np.zeros(size, dtype=np.int64), steps_run, batch.dt_s, status,
+    )  # fmt: skip
+    plan = _planner_state(name, planner, batch)
+    arguments = (world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_tuple, scratch, metrics_tuple, plan)
+    _over_threads(_KERNELS[name], size, arguments)
+    if (status == _FULL).any():
+        return None
+    if (status == _BAD_COMMAND).any():
+        from vrusim.engine.simulate import _checked_command  # the per-step path's message
+
+        _checked_command(scratch[16], size, type(planner).__name__)
+    _collect_transitions(metrics, batch.dt_s, metrics_tuple[5:9])
+    return int(steps_run.max()) if size else 0
+
+
+CHUNKS_PER_THREAD = 8
+"""Variants are run in this many chunks per thread, taken in turn, so that variants stopping early balance out."""
+MIN_CHUNK = 64
+"""Fewest variants per chunk (a chunk costs a few microseconds to start)."""
+
+
+def _over_threads(kernel, size: int, arguments: tuple) -> None:
+    """Run `kernel(first, stop, *arguments)` over chunks of the variants on numba's thread count (the kernels
+    release the GIL); one thread runs it whole."""
+    threads = numba.get_num_threads()
+    chunk = max(MIN_CHUNK, -(-size // (threads * CHUNKS_PER_THREAD)))
+    bounds = [(first, min(first + chunk, size)) for first in range(0, size, chunk)]
+    if threads == 1 or len(bounds) == 1:
+        kernel(0, size, *arguments)
+        return
+    with ThreadPoolExecutor(threads) as pool:
+        for done in [pool.submit(kernel, first, stop, *arguments) for first, stop in bounds]:
+            done.result()
+
+
+def _collect_transitions(metrics: RunMetrics, dt_s: float, buffers: tuple) -> None:
+    """Append the recorded transitions in the per-step path's order: by step, then by variant."""
+    steps, olds, news, counts = buffers
+    rows = np.repeat(np.arange(counts.size), counts)
+    slots = np.arange(rows.size) - np.repeat(np.cumsum(counts) - counts, counts)
+    order = np.lexsort((rows, steps[rows, slots]))
+    rows, slots = rows[order], slots[order]
+    variants = metrics._variant
+    for b, i in zip(rows.tolist(), slots.tolist(), strict=True):
+        step = int(steps[b, i])
+        metrics.transitions.append((step * dt_s, int(variants[b]), int(olds[b, i]), int(news[b, i])))
