@@ -30,7 +30,7 @@ from vrusim.cli.run import run_command
 from vrusim.cli.summarize import summarize_command
 from vrusim.cli.sweep import sweep_command
 from vrusim.errors import UserInputError
-from vrusim.planners.registry import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
+from vrusim.planners.permission import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
 from vrusim.version import __version__
 
 COMMANDS: dict[str, Callable[..., None]] = {

@@ -25,11 +25,12 @@ from vrusim.cli.options import (
 )
 from vrusim.cli.output import console, named_errors, print_json, user_errors
 from vrusim.errors import UserInputError
-from vrusim.metrics.display import display_rows
 
 
 def _summary_table(row: dict) -> Table:
     """The summary of one run as two columns, quantity and value, in sections (`vrusim.metrics.display`)."""
+    from vrusim.metrics.display import display_rows
+
     title = f"{escape(row['scenario'])}  ·  V2X {on_off(row['v2x'])}  ·  planner {escape(row['planner'])}"
     table = Table(title=title, show_header=False, box=box.SIMPLE_HEAD, title_justify="left")
     table.add_column("quantity", style="bold")
