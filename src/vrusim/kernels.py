@@ -20,6 +20,7 @@ import numba
 import platformdirs
 from numba import njit, prange
 
+from vrusim.kernel_notices import attach as attach_compile_notices
 from vrusim.version import source_digest
 
 __all__ = ["PARALLEL_MIN_BATCH", "BatchKernel", "batch_kernel", "kernel_cache_folder", "njit", "prange"]
@@ -66,6 +67,7 @@ def prune_kernel_caches(root: Path, keep: str, unused_days: float = KERNEL_CACHE
 
 
 _configure_kernel_cache()
+attach_compile_notices()  # the command line's "compiling" notices, if it asked for them before numba loaded
 
 PARALLEL_MIN_BATCH = 4096
 """Batches with at least this many variants run the multi-threaded version (if numba has several threads)."""
