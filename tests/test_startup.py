@@ -107,3 +107,20 @@ def test_a_cold_run_says_so_on_stderr_and_keeps_json_on_stdout_clean(tmp_path, m
     out, err = capsys.readouterr()
     assert json.loads(out)["scenario"] == "paper-pedestrian-crossing"
     assert "vrusim: compiling the simulation kernels" in err and "compiled kernel 1" in err
+
+
+def test_limits_held_reads_each_limit_once_and_a_grid_build_still_applies_them(monkeypatch):
+    from pydantic import ValidationError
+
+    from vrusim.limits import limit, limits_held
+    from vrusim.ncap.grid import run_tests, select
+
+    monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "5")
+    with limits_held():
+        assert limit("speed_mps") == 5.0
+        monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "7")
+        assert limit("speed_mps") == 5.0  # read once in the block
+    assert limit("speed_mps") == 7.0
+    monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "1")
+    with pytest.raises(ValidationError, match="VRUSIM_LIMIT_SPEED_MPS"):
+        run_tests(select(["CPNA"], protocol="2026"))  # built inside limits_held: the limit applies
