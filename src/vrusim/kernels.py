@@ -9,8 +9,10 @@ counting (`_nrt=False`), which would otherwise increment and decrement array cou
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import shutil
+import sys
 import time
 import types
 from collections.abc import Callable
@@ -20,6 +22,7 @@ import numba
 import platformdirs
 from numba import njit, prange
 
+from vrusim.kernel_notices import attach as attach_compile_notices
 from vrusim.version import source_digest
 
 __all__ = ["PARALLEL_MIN_BATCH", "BatchKernel", "batch_kernel", "kernel_cache_folder", "njit", "prange"]
@@ -65,7 +68,40 @@ def prune_kernel_caches(root: Path, keep: str, unused_days: float = KERNEL_CACHE
         pass
 
 
+def _load_numba_array_support_without_scipy() -> None:
+    """Import numba's array implementations (`numba.np.arraymath`) without importing SciPy's linear algebra.
+
+    Numba imports `numba.np.arraymath` before it compiles or loads its first kernel; at import that module
+    checks for BLAS by importing `scipy.linalg` (about 0.2 s, most of it NumPy's f2py) to choose how `np.convolve`
+    and `np.correlate` compute inner products. No vrusim kernel uses them, nor any BLAS routine; kernels that do
+    still import SciPy when numba compiles them (numba's `ensure_blas`). So the check is skipped during the
+    import and its answer set afterwards from whether SciPy is installed, which does not import it. Best effort:
+    with a numba that differs, numba's own import happens instead.
+    """
+    if "numba.np.arraymath" in sys.modules:
+        return
+    try:
+        from numba.np import linalg
+
+        real_check = linalg.ensure_blas
+
+        def skip_check() -> None:
+            raise ImportError("BLAS check deferred by vrusim.kernels")
+
+        linalg.ensure_blas = skip_check
+        try:
+            from numba.np import arraymath
+        finally:
+            linalg.ensure_blas = real_check
+        arraymath.ensure_blas = real_check
+        arraymath._HAVE_BLAS = importlib.util.find_spec("scipy") is not None
+    except (ImportError, AttributeError):  # another numba: it checks as it always does
+        pass
+
+
 _configure_kernel_cache()
+_load_numba_array_support_without_scipy()
+attach_compile_notices()  # the command line's "compiling" notices, if it asked for them before numba loaded
 
 PARALLEL_MIN_BATCH = 4096
 """Batches with at least this many variants run the multi-threaded version (if numba has several threads)."""

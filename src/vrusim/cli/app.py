@@ -6,7 +6,8 @@
     vrusim --version
 
 Bad input (a scenario field, a file, an option) ends with one message on stderr naming the culprit and exit
-code 2, never a traceback; anything else that goes wrong is a bug and keeps its traceback.
+code 2, never a traceback; anything else that goes wrong is a bug and keeps its traceback. A cold start (kernels
+not yet compiled for this version) says so on stderr while it compiles; stdout stays the command's output.
 """
 
 from __future__ import annotations
@@ -30,7 +31,8 @@ from vrusim.cli.run import run_command
 from vrusim.cli.summarize import summarize_command
 from vrusim.cli.sweep import sweep_command
 from vrusim.errors import UserInputError
-from vrusim.planners.registry import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
+from vrusim.kernel_notices import compile_notices
+from vrusim.planners.permission import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
 from vrusim.version import __version__
 
 COMMANDS: dict[str, Callable[..., None]] = {
@@ -89,9 +91,11 @@ for _name, _command in COMMANDS.items():
 
 
 def main(argv: Sequence[str] | None = None, prog_name: str = "vrusim") -> None:
-    """Console-script entry point: run the app; any UserInputError becomes its message and exit code 2."""
+    """Console-script entry point: run the app; any UserInputError becomes its message and exit code 2. Kernels
+    that compile (a cold start) are announced on stderr, one line per kernel (`vrusim.kernel_notices`)."""
     try:
-        app(args=None if argv is None else list(argv), prog_name=prog_name)
+        with compile_notices():
+            app(args=None if argv is None else list(argv), prog_name=prog_name)
     except UserInputError as error:
         report_user_error(error)
         sys.exit(USER_ERROR_EXIT_CODE)

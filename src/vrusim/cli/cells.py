@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
-from vrusim.metrics.display import number
-
 __all__ = ["mark", "number", "on_off"]
+
+
+def number(value: float | None, unit: str = "", digits: int = 2) -> str:
+    """A value with its unit, fixed decimals; "—" when absent (`vrusim.metrics.display.number`, imported when
+    first used: the metric catalogue loads the engine)."""
+    from vrusim.metrics.display import number
+
+    return number(value, unit, digits)
 
 
 def mark(ok: bool) -> str:

@@ -18,7 +18,6 @@ from vrusim.cli.options import ForceOption, JsonOption, check_out_dir, out_dir_o
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
 from vrusim.io.paths import for_option, new_folder
-from vrusim.sources import resolve_source
 
 if TYPE_CHECKING:
     from vrusim.scenario.schema import Scenario
@@ -73,6 +72,8 @@ def export_command(
     as_json: JsonOption = False,
 ) -> None:
     """Export scenarios for other tools: OpenSCENARIO XML with its OpenDRIVE road, or CommonRoad."""
+    from vrusim.sources import resolve_source
+
     with user_errors():
         check_out_dir(out, force)
         scenarios = resolve_source(source, night)

@@ -19,14 +19,16 @@ PAPER_FIGURE_DPI = 110.0
 def check_run_outputs(plot: Path | None, animate: Path | None) -> None:
     """Fail (naming --plot / --animate) unless each given path has a known suffix and a writable folder."""
     from vrusim.io.paths import check_output_file
-    from vrusim.viz.animate import check_animation_path
-    from vrusim.viz.figure_io import check_figure_path
 
     if plot is not None:
+        from vrusim.viz.figure_io import check_figure_path
+
         check_output_file(plot, "--plot")
         with named_errors("--plot"):
             check_figure_path(plot)
     if animate is not None:
+        from vrusim.viz.animate import check_animation_path  # imports matplotlib: only when asked for
+
         check_output_file(animate, "--animate")
         with named_errors("--animate"):
             check_animation_path(animate)

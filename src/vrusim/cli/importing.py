@@ -8,7 +8,7 @@ vrusim's defaults; the planner, sensor, V2X and time step are not in an OpenSCEN
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.markup import escape
@@ -16,15 +16,17 @@ from rich.markup import escape
 from vrusim.cli.options import JsonOption, LenientOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
-from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_file
-from vrusim.scenario.schema import Scenario
-from vrusim.scenario.yaml_text import scenario_yaml
 from vrusim.version import __version__
+
+if TYPE_CHECKING:
+    from vrusim.scenario.schema import Scenario
 
 
 def scenario_yaml_text(scenario: Scenario, source: str) -> str:
     """The scenario as YAML (fields that differ from the defaults), under a comment naming where it came from."""
+    from vrusim.scenario.yaml_text import scenario_yaml
+
     body = scenario_yaml(scenario.model_dump(mode="json", exclude_defaults=True))
     head = f"# Imported from {source} by vrusim {__version__} (planner, sensor, V2X, time step: vrusim's defaults)\n"
     return head + body
@@ -51,6 +53,8 @@ def import_command(
     as_json: JsonOption = False,
 ) -> None:
     """Import an OpenSCENARIO file as a vrusim scenario YAML."""
+    from vrusim.io.atomic import write_atomically
+
     with user_errors():
         check_output_file(out, "--out")
         if out.exists() and not force:

@@ -14,7 +14,6 @@ from vrusim.cli.figures import check_figures_dir, write_paper_figures
 from vrusim.cli.options import JsonOption, ReportOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.cli.report import check_report_option, write_report_option
-from vrusim.metrics.outcome import outcome_of
 
 SCORES = ("safety", "efficiency", "comfort")
 
@@ -50,6 +49,8 @@ def _basis_lines(result: dict) -> list[str]:
 
 
 def _table_ii(result: dict) -> Table:
+    from vrusim.metrics.outcome import outcome_of
+
     tolerance = result["tolerances"]["score"]
     table = Table(
         title=f"Table II — outcomes and scores, paper→ours and difference (✓: all three within ±{tolerance:.2f})",

@@ -25,11 +25,12 @@ from vrusim.cli.options import (
 )
 from vrusim.cli.output import console, named_errors, print_json, user_errors
 from vrusim.errors import UserInputError
-from vrusim.metrics.display import display_rows
 
 
 def _summary_table(row: dict) -> Table:
     """The summary of one run as two columns, quantity and value, in sections (`vrusim.metrics.display`)."""
+    from vrusim.metrics.display import display_rows
+
     title = f"{escape(row['scenario'])}  ·  V2X {on_off(row['v2x'])}  ·  planner {escape(row['planner'])}"
     table = Table(title=title, show_header=False, box=box.SIMPLE_HEAD, title_justify="left")
     table.add_column("quantity", style="bold")
@@ -75,12 +76,12 @@ def run_command(
     """Simulate one scenario (a YAML file, a bundled scenario or a catalogue test) and print its summary."""
     with user_errors():
         from vrusim.engine.simulate import simulate
-        from vrusim.engine.trace_file import check_trace_path, write_trace
         from vrusim.metrics.summary import summary_rows
         from vrusim.sources import apply_planner_and_seed, scenario_of
 
         chosen = one_planner(planner, "run")
         if trace is not None:
+            from vrusim.engine.trace_file import check_trace_path  # imports pyarrow: only for --trace
             from vrusim.io.paths import check_output_file
 
             check_output_file(trace, "--trace")
@@ -100,6 +101,8 @@ def run_command(
         row = summary_rows(result)[0]
         rows_written = None
         if trace is not None:
+            from vrusim.engine.trace_file import write_trace
+
             with named_errors("--trace"):
                 rows_written = write_trace(result, trace)
         written = write_run_outputs(result, scenario, plot, animate) if pictures else []

@@ -7,6 +7,7 @@ absent); the catalogue declares them. Formulas, units and sources: docs/metrics.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -139,7 +140,7 @@ def per_vru_json(template: str, digits: int = 6) -> Any:
         counts = view.params.vru_valid.sum(axis=1).tolist()
         slots = [columns[template.format(k=k)].tolist() for k in range(view.params.vru_slots)]
         return [
-            [None if not np.isfinite(slots[k][b]) else round(float(slots[k][b]), digits) for k in range(count)]
+            [round(float(slots[k][b]), digits) if math.isfinite(slots[k][b]) else None for k in range(count)]
             for b, count in enumerate(counts)
         ]
 

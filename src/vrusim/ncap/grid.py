@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.errors import UserInputError
+from vrusim.limits import limits_held
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.build import BuiltTest, NcapTest, build_test
 from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS
@@ -64,8 +65,9 @@ def run_tests(tests: Iterable[NcapTest], planner: str = "fsm", v2x: bool = False
     """Build every test and run them all as one batch; rows carry what the Euro NCAP assessment needs."""
     tests = list(tests)
     low_speed = [test for test in tests if test.spec.layout in LOW_SPEED_LAYOUTS]
-    batched_probes([functools.partial(build_test, test, planner, v2x) for test in low_speed])  # one probe batch
-    built = [build_test(test, planner, v2x) for test in tests]
+    with limits_held():  # each scenario's bounds are checked against limits read once for the grid
+        batched_probes([functools.partial(build_test, test, planner, v2x) for test in low_speed])  # one batch
+        built = [build_test(test, planner, v2x) for test in tests]
     if not built:
         raise UserInputError("--scenario: the selection contains no tests")
     driver = make_planner(planner)

@@ -19,7 +19,6 @@ from __future__ import annotations
 import hashlib
 import importlib
 import importlib.metadata
-import os
 from collections.abc import Callable
 from pathlib import Path
 
@@ -29,6 +28,12 @@ from vrusim.planners.aeb import AebPlanner
 from vrusim.planners.base import HoldSpeedPlanner, Planner
 from vrusim.planners.dow import DowPlanner
 from vrusim.planners.fsm import FsmPlanner
+from vrusim.planners.permission import (  # noqa: F401 (re-exported: the public home of these names)
+    MODULE_PLANNERS_ENV,
+    MODULE_PLANNERS_FLAG,
+    allow_module_planners,
+    module_planners_allowed,
+)
 from vrusim.planners.predictive import PredictivePlanner
 from vrusim.planners.reverse_aeb import ReverseAebPlanner
 
@@ -42,23 +47,6 @@ BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {
     "dow": DowPlanner,
 }
 ENTRY_POINT_GROUP = "vrusim.planners"
-MODULE_PLANNERS_ENV = "VRUSIM_ALLOW_MODULE_PLANNERS"
-"""Set to 1 (or true / yes) to let `planner.name: module:Class` import its module."""
-MODULE_PLANNERS_FLAG = "--allow-module-planners"
-"""The `vrusim` option that sets MODULE_PLANNERS_ENV for the command (and the workers it starts)."""
-
-
-def module_planners_allowed() -> bool:
-    """Whether `module:Class` planner names may be imported (MODULE_PLANNERS_ENV is 1, true or yes)."""
-    return os.environ.get(MODULE_PLANNERS_ENV, "").strip().lower() in ("1", "true", "yes")
-
-
-def allow_module_planners(allowed: bool = True) -> None:
-    """Allow (or forbid again) `module:Class` planner names in this process and the worker processes it starts."""
-    if allowed:
-        os.environ[MODULE_PLANNERS_ENV] = "1"
-    else:
-        os.environ.pop(MODULE_PLANNERS_ENV, None)
 
 
 def _check_module_allowed(name: str) -> None:

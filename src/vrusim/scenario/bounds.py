@@ -14,7 +14,7 @@ import itertools
 import math
 from collections.abc import Sequence
 
-from vrusim.limits import excess
+from vrusim.limits import excess, limit
 
 COORDINATE_FIELDS = frozenset({"x_m", "y_m"})
 """Names of coordinate fields (a world-frame position, m)."""
@@ -39,11 +39,10 @@ def bound_of(field: str) -> str | None:
 def value_excess(limit_name: str, value: object) -> str | None:
     """Why `value` (a number, or a list of numbers) is beyond limit `limit_name`, or None."""
     numbers = value if isinstance(value, tuple | list) else (value,)
+    bound = limit(limit_name)  # read once per value: validation checks every bounded field of every model
     for number in numbers:
-        if isinstance(number, int | float) and not isinstance(number, bool):
-            reason = excess(limit_name, number)
-            if reason is not None:
-                return reason
+        if isinstance(number, int | float) and not isinstance(number, bool) and abs(number) > bound:
+            return excess(limit_name, number)
     return None
 
 

@@ -1,0 +1,126 @@
+"""Process start: the command line imports only what a command needs, and a cold start (kernels compiling) says
+so on stderr while a warm one says nothing."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numba
+import pytest
+
+import vrusim
+from vrusim.cli.app import main
+from vrusim.kernel_notices import compile_notices
+
+SRC = Path(vrusim.__file__).resolve().parents[1]
+
+HEAVY = ("matplotlib", "pandas", "pyarrow", "scipy", "plotly", "openpyxl", "PIL", "numba", "pydantic", "yaml")
+"""Libraries that `import vrusim.cli.app`, `vrusim --version` and `vrusim --help` must not load."""
+
+_PROBE = f"""
+import json, sys
+import vrusim.cli.app
+after_import = sorted(m for m in {HEAVY!r} if m in sys.modules)
+for argv in (["--version"], ["--help"]):
+    try:
+        vrusim.cli.app.main(argv)
+    except SystemExit:
+        pass
+after_commands = sorted(m for m in {HEAVY!r} if m in sys.modules)
+print(json.dumps({{"import": after_import, "commands": after_commands}}))
+"""
+
+
+def _python(code: str, **env: str) -> subprocess.CompletedProcess:
+    environment = os.environ | {"PYTHONPATH": str(SRC)} | env
+    return subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True, text=True, check=True)
+
+
+def test_the_command_line_imports_no_heavy_library_until_a_command_needs_it():
+    report = json.loads(_python(_PROBE).stdout.splitlines()[-1])
+    assert report == {"import": [], "commands": []}
+
+
+def _tiny_kernel(x: float) -> float:
+    return x + 1.0
+
+
+def test_a_compiling_kernel_is_announced_and_a_cached_one_is_not(tmp_path, monkeypatch):
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))  # an empty cache: this kernel must compile
+    cold = io.StringIO()
+    with compile_notices(cold):
+        assert numba.njit(cache=True)(_tiny_kernel)(1.0) == 2.0
+    lines = cold.getvalue().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("vrusim: compiling the simulation kernels"), lines
+    assert str(tmp_path) in lines[0]
+    assert lines[1].startswith("vrusim: compiled kernel 1 (") and "_tiny_kernel" in lines[1], lines
+
+    warm = io.StringIO()
+    with compile_notices(warm):
+        assert numba.njit(cache=True)(_tiny_kernel)(1.0) == 2.0  # a new dispatcher: loaded from the cache
+    assert warm.getvalue() == ""
+
+    after = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", after)
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path / "other"))
+    numba.njit(cache=True)(_tiny_kernel)(1.0)  # compiles, but outside a block: no notice
+    assert after.getvalue() == ""
+
+
+def test_notices_asked_for_before_numba_loads_attach_when_the_kernels_module_loads(tmp_path):
+    code = """
+import sys
+from vrusim.kernel_notices import compile_notices
+with compile_notices():
+    assert "numba" not in sys.modules
+    from vrusim.kernels import njit
+    from tests_startup_kernel import twice
+    print(njit(cache=True)(twice)(2.0))
+"""
+    (tmp_path / "tests_startup_kernel.py").write_text("def twice(x):\n    return 2.0 * x\n", encoding="utf-8")
+    done = _python(code, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=f"{SRC}{os.pathsep}{tmp_path}")
+    assert done.stdout.strip() == "4.0"  # stdout is the program's alone
+    assert "vrusim: compiling the simulation kernels" in done.stderr
+    assert "compiled kernel 1 (tests_startup_kernel.twice)" in done.stderr
+
+
+def test_a_cold_run_says_so_on_stderr_and_keeps_json_on_stdout_clean(tmp_path, monkeypatch, capsys):
+    import vrusim.engine.simulate as engine
+
+    simulate = engine.simulate
+
+    def cold_simulate(*args, **kwargs):
+        # a kernel that is not in the (empty) cache compiles when the command simulates, as on a cold start
+        monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+        numba.njit(cache=True)(_tiny_kernel)(1.0)
+        return simulate(*args, **kwargs)
+
+    monkeypatch.setattr(engine, "simulate", cold_simulate)
+    with pytest.raises(SystemExit) as exit_code:
+        main(["run", "paper:pedestrian", "--json"])
+    assert exit_code.value.code in (0, None)
+    out, err = capsys.readouterr()
+    assert json.loads(out)["scenario"] == "paper-pedestrian-crossing"
+    assert "vrusim: compiling the simulation kernels" in err and "compiled kernel 1" in err
+
+
+def test_limits_held_reads_each_limit_once_and_a_grid_build_still_applies_them(monkeypatch):
+    from pydantic import ValidationError
+
+    from vrusim.limits import limit, limits_held
+    from vrusim.ncap.grid import run_tests, select
+
+    monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "5")
+    with limits_held():
+        assert limit("speed_mps") == 5.0
+        monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "7")
+        assert limit("speed_mps") == 5.0  # read once in the block
+    assert limit("speed_mps") == 7.0
+    monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "1")
+    with pytest.raises(ValidationError, match="VRUSIM_LIMIT_SPEED_MPS"):
+        run_tests(select(["CPNA"], protocol="2026"))  # built inside limits_held: the limit applies
