@@ -229,7 +229,7 @@ class FieldRule:
 
     integer: bool
     """An int field (refuses floats); else a float field (takes ints and floats)."""
-    bounds: tuple[tuple[str, float], ...]
+    bounds: tuple[tuple[str, int | float], ...]
     """(operator, value) pairs: "ge", "gt", "le", "lt"."""
     limit_name: str | None
     """The physical bound of its unit (`vrusim.scenario.bounds`)."""
@@ -284,7 +284,7 @@ def field_rule(base: BaseModel, steps: tuple[Step, ...]) -> FieldRule | None:
             if type(item).__name__ == "Strict":  # strictness is the model's anyway
                 continue
             return None
-        bounds.append((operator, float(getattr(item, operator))))
+        bounds.append((operator, getattr(item, operator)))  # an int bound stays exact for int fields
     return FieldRule(annotation is int, tuple(bounds), bound_of(str(steps[-1])))
 
 
