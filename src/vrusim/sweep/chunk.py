@@ -8,6 +8,7 @@ never change a number.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,6 +19,7 @@ from vrusim.engine.simulate import simulate
 from vrusim.metrics.columns import result_columns
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
+from vrusim.sweep.columnar import ColumnarPacker
 from vrusim.sweep.gc_pause import gc_paused
 from vrusim.sweep.plan import SweepPlan, VariantBuilder
 from vrusim.sweep.tables import chunk_table
@@ -25,28 +27,45 @@ from vrusim.sweep.tables import chunk_table
 
 @dataclass(frozen=True)
 class ChunkTask:
-    """Batch `index` of a plan: its design rows (Python lists by column) and the numba threads to use."""
+    """Batch `index` of a plan: its design rows (arrays by column) and the numba threads to use."""
 
     plan: SweepPlan
     plan_digest: str
     index: int
-    rows: dict[str, list[Any]]
+    rows: dict[str, np.ndarray]
+    """The batch's design rows, by column."""
     types: dict[str, pa.DataType]
     """Arrow type of each design column (`vrusim.sweep.tables.design_types`)."""
     threads: int = 0
     """Numba threads for the kernels; 0 leaves the process's setting alone."""
 
 
-_BUILDERS: dict[str, VariantBuilder] = {}
-"""Per process: the variant builder of each plan seen (bases validated once, not once per batch)."""
+_BUILDERS: dict[str, tuple[VariantBuilder, ColumnarPacker | None]] = {}
+"""Per process: the variant builder and columnar packer of each plan seen (bases validated once, not once per
+batch)."""
 
 
-def _builder(task: ChunkTask) -> VariantBuilder:
-    builder = _BUILDERS.get(task.plan_digest)
-    if builder is None:
+def _builders(task: ChunkTask) -> tuple[VariantBuilder, ColumnarPacker | None]:
+    found = _BUILDERS.get(task.plan_digest)
+    if found is None:
         _BUILDERS.clear()
-        builder = _BUILDERS[task.plan_digest] = VariantBuilder(task.plan)
-    return builder
+        builder = VariantBuilder(task.plan)
+        found = _BUILDERS[task.plan_digest] = (builder, ColumnarPacker.of(task.plan, builder.bases))
+    return found
+
+
+def _merged(runs: list[tuple[np.ndarray, dict[str, np.ndarray]]], count: int) -> dict[str, np.ndarray]:
+    """Result columns of sub-batches (their rows, their columns) merged in variant order."""
+    if len(runs) == 1:
+        return runs[0][1]
+    merged: dict[str, np.ndarray] = {}
+    for rows, columns in runs:
+        for name, values in columns.items():
+            if name not in merged:
+                floats = values.dtype.kind == "f"
+                merged[name] = np.full(count, np.nan if floats else None, dtype=float if floats else object)
+            merged[name][rows] = values
+    return merged
 
 
 def _simulate_groups(scenarios: list[Scenario]) -> dict[str, np.ndarray]:
@@ -54,18 +73,34 @@ def _simulate_groups(scenarios: list[Scenario]) -> dict[str, np.ndarray]:
     groups: dict[tuple[str, float], list[int]] = {}
     for row, scenario in enumerate(scenarios):
         groups.setdefault((scenario.planner.name, scenario.sim.dt_s), []).append(row)
-    if len(groups) == 1:
-        ((planner, _),) = groups
-        return result_columns(simulate(scenarios, planner=make_planner(planner)))
-    merged: dict[str, np.ndarray] = {}
-    for (planner, _), rows in groups.items():
-        columns = result_columns(simulate([scenarios[r] for r in rows], planner=make_planner(planner)))
-        for name, values in columns.items():
-            if name not in merged:
-                floats = values.dtype.kind == "f"
-                merged[name] = np.full(len(scenarios), np.nan if floats else None, dtype=float if floats else object)
-            merged[name][rows] = values
-    return merged
+    runs = [
+        (np.array(rows), result_columns(simulate([scenarios[r] for r in rows], planner=make_planner(planner))))
+        for (planner, _), rows in groups.items()
+    ]
+    return _merged(runs, len(scenarios))
+
+
+def _lists(rows: dict[str, np.ndarray], select: Sequence[int] | np.ndarray) -> dict[str, list[Any]]:
+    """Design rows `select` as Python values (what a `Scenario` is validated from)."""
+    return {name: np.asarray(column)[select].tolist() for name, column in rows.items()}
+
+
+def batch_columns(task: ChunkTask) -> dict[str, np.ndarray]:
+    """The result columns of a batch's variants: packed from the design columns when every swept field has a
+    writer (a flagged variant is built as a `Scenario` first, to raise its own message), else from one
+    validated `Scenario` per variant."""
+    builder, packer = _builders(task)
+    count = len(task.rows["variant"])
+    flagged = None if packer is None else packer.flagged(task.rows)
+    if packer is None or flagged is None:
+        return _simulate_groups(builder.build(_lists(task.rows, np.arange(count)), range(count)))
+    if flagged.size:
+        builder.build(_lists(task.rows, flagged), range(flagged.size))  # raises the first bad variant's message
+    runs = [
+        (rows, result_columns(simulate(params, planner=make_planner(planner))))
+        for rows, planner, params in packer.groups(task.rows)
+    ]
+    return _merged(runs, count)
 
 
 def run_chunk(task: ChunkTask) -> pa.Table:
@@ -74,8 +109,6 @@ def run_chunk(task: ChunkTask) -> pa.Table:
         import numba
 
         numba.set_num_threads(min(task.threads, numba.config.NUMBA_NUM_THREADS))
-    rows = range(len(task.rows["variant"]))
     with gc_paused():
-        scenarios = _builder(task).build(task.rows, rows)
-        columns = _simulate_groups(scenarios)
+        columns = batch_columns(task)
     return chunk_table(task.rows, task.types, columns)

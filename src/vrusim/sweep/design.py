@@ -141,9 +141,9 @@ def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
     return columns
 
 
-def design_rows(design: dict[str, np.ndarray], start: int, stop: int) -> dict[str, Any]:
-    """Rows [start, stop) of a design as Python lists (values ready for validation and pickling)."""
-    return {name: column[start:stop].tolist() for name, column in design.items()}
+def design_rows(design: dict[str, np.ndarray], start: int, stop: int) -> dict[str, np.ndarray]:
+    """Rows [start, stop) of a design (copies: a batch pickles only its own rows)."""
+    return {name: column[start:stop].copy() for name, column in design.items()}
 
 
 def preflight_rows(design: dict[str, np.ndarray], plan: SweepPlan, first: int = 256) -> list[int]:
