@@ -207,7 +207,9 @@ def main() -> None:
         for size in args.sizes:
             command = [sys.executable, __file__, "--one", planner, str(size), "--repeats", str(args.repeats)]
             command += ["--steps", str(args.steps), "--reference-sizes", *map(str, args.reference_sizes)]
-            out = subprocess.run(command, check=True, capture_output=True, text=True)
+            out = subprocess.run(command, capture_output=True, text=True)
+            if out.returncode != 0:
+                raise SystemExit(f"{planner} at B = {size} failed:\n{out.stderr}")
             rows.append(json.loads(out.stdout))
     info = machine()
     if args.json:
