@@ -3,7 +3,7 @@ same process as vrusim's engine on the same batch.
 
 Run: python benchmarks/fused_reference.py [--batch 10000] [--steps 1000] [--repeats 3]
 
-The workload is `bench_engine.batch`: the paper pedestrian case (He et al., CPSI 2025, case (i)) with V2X on,
+The workload is `bench_engine.packed_batch`: the paper pedestrian case (He et al., CPSI 2025, case (i)) with V2X on,
 stop rules off and the ego's cruise speed spread over 12–18 m/s, stepped `--steps` times at dt 0.01 s. The
 reference does the same physics per variant and step, all in one compiled loop (parallel over variants, state in
 registers, no temporaries, no early stop):
@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit, prange
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_engine import batch  # the same scenarios as the engine benchmark
+from bench_engine import packed_batch, shortened  # the same batch as the engine benchmark
 
 # paper pedestrian case, fixed for every variant (m, s, m/s, m/s^2)
 EGO_HALF_LENGTH_M, EGO_HALF_WIDTH_M, REAR_TO_CENTRE_M = 2.25, 0.9, 1.35
@@ -179,15 +179,13 @@ def main() -> None:
     parser.add_argument("--check", action="store_true", help="compare outcomes with vrusim's")
     args = parser.parse_args()
     from vrusim.engine.simulate import simulate
-    from vrusim.sim.params import pack
 
     dt = 0.01
-    scenarios = batch(args.batch, args.steps * dt)
-    cruise = np.array([s.ego.cruise_speed_mps for s in scenarios])
+    params = packed_batch(args.batch, args.steps * dt)
+    cruise = np.ascontiguousarray(params.cruise_speed_mps)
     run_reference(cruise[:2], 2, dt)  # compile / load from cache
     reference_s = best_time(lambda: run_reference(cruise, args.steps, dt), args.repeats)
-    params = pack(scenarios)
-    simulate(pack(scenarios[:1]))
+    simulate(shortened(params, 2))  # load the compiled kernels this batch size uses
     result = None
 
     def engine() -> None:

@@ -1,0 +1,73 @@
+"""The benchmark scripts run, at tiny sizes (they are never timed here), and the engine benchmark's cheap batch is
+exactly what `pack` makes from validated Scenarios."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCHMARKS))
+
+import bench_cli  # noqa: E402
+import bench_engine  # noqa: E402
+
+
+def _differences(a: Any, b: Any, path: str = "params") -> list[str]:
+    """Paths where two packed batches differ (arrays by dtype, shape and values; objects member by member)."""
+    if isinstance(a, np.ndarray):
+        same = a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
+        return [] if same else [path]
+    if dataclasses.is_dataclass(a):
+        members = {f.name: (getattr(a, f.name), getattr(b, f.name)) for f in dataclasses.fields(a)}
+    elif isinstance(a, tuple) and hasattr(a, "_fields"):
+        members = {name: (getattr(a, name), getattr(b, name)) for name in a._fields}
+    elif hasattr(a, "__dict__") and type(a) is type(b):
+        members = {name: (value, vars(b)[name]) for name, value in vars(a).items()}
+    else:
+        return [] if a == b else [path]
+    return [d for name, (x, y) in members.items() for d in _differences(x, y, f"{path}.{name}")]
+
+
+@pytest.mark.parametrize("planner", bench_engine.PLANNERS)
+def test_tiled_batch_is_the_packed_scenarios(planner: str) -> None:
+    from vrusim.sim.params import pack
+
+    tiled = bench_engine.packed_batch(4, 0.5, planner)
+    assert _differences(pack(bench_engine.batch(4, 0.5, planner)), tiled) == []
+    assert tiled.planner_names == [planner] * 4 and len(set(tiled.cruise_speed_mps)) == 4
+
+
+def _script(name: str, *args: str) -> str:
+    done = subprocess.run([sys.executable, str(BENCHMARKS / name), *args], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def test_engine_benchmark_runs() -> None:
+    out = json.loads(_script("bench_engine.py", "--sizes", "2", "--planners", "fsm", "--steps", "5", "--repeats",
+                             "1", "--reference-sizes", "2", "--json"))  # fmt: skip
+    (row,) = out["rows"]
+    assert row["steps"] == 5 and row["auto_steps_per_s"] > 0 and row["reference_steps_per_s"] > 0
+    assert out["machine"]["cores"] >= 1
+
+
+def test_sweep_benchmark_runs() -> None:
+    out = _script("bench_sweep.py", "--goal", "20", "--warmup", "0")
+    assert "| 20 |" in out and "goal >= 20,000" in out
+
+
+def test_cli_benchmark_parts(tmp_path: Path) -> None:
+    """The timing and the cold-start check, with a stand-in for vrusim (the real commands take seconds)."""
+    stand_in = [sys.executable, "-c", "import sys; sys.stderr.write('Compiling kernels (once)\\n')"]
+    row = bench_cli.warm("stand-in", stand_in, 2, 60.0)
+    assert row["runs"] == 2 and 0 < row["min_s"] <= row["median_s"] and row["met"]
+    cold = bench_cli.cold(stand_in, bench_cli.PAPER[0])
+    assert cold["says_compiling"] and cold["stderr_line"] == "Compiling kernels (once)"
