@@ -1,0 +1,150 @@
+"""The compiled run of the built-in planners (`engine.compiled_run`) gives exactly the per-step path's results."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from conftest import deep_update
+from vrusim.engine import compiled_run
+from vrusim.engine.accumulators import ACCUMULATORS
+from vrusim.engine.simulate import BatchRun, simulate
+from vrusim.ncap.build import build_test
+from vrusim.ncap.grid import select
+from vrusim.paper.cases import paper_scenarios
+from vrusim.planners.base import HoldSpeedPlanner
+from vrusim.planners.registry import make_planner
+from vrusim.scenario.loading import scenario_from_mapping
+from vrusim.sim.params import BatchParams, pack
+
+PLANNERS = ("fsm", "none", "aeb", "predictive")
+RESULT_ROWS = [i for i, row in enumerate(ACCUMULATORS) if row.reduce != "carry"]
+
+
+def _as_planner(batch: BatchParams, name: str) -> BatchParams:
+    """The batch driven by planner `name` with its default parameters."""
+    if name == "fsm":
+        return batch
+    return dataclasses.replace(batch, planner_names=[name] * batch.size, planner_params=[{}] * batch.size)
+
+
+def assert_identical(compiled: BatchRun, per_step: BatchRun) -> None:
+    """Every streamed result, transition and the step count are the same, bit for bit (NaN where NaN). The
+    `carry` rows are not results: the per-step path goes on updating them for stopped variants until it drops
+    them from its working set, the compiled run stops a variant at once."""
+    a, b = compiled.metrics, per_step.metrics
+    np.testing.assert_array_equal(a.values[RESULT_ROWS], b.values[RESULT_ROWS], strict=True)
+    np.testing.assert_array_equal(a._per_vru, b._per_vru, strict=True)
+    np.testing.assert_array_equal(a.collided, b.collided, strict=True)
+    np.testing.assert_array_equal(a.first_mode_s, b.first_mode_s, strict=True)
+    assert a.transitions == b.transitions
+    assert compiled.steps == per_step.steps
+    assert compiled.mode_names == per_step.mode_names
+
+
+def both_paths(batch: BatchParams) -> tuple[BatchRun, BatchRun]:
+    return simulate(batch, compiled=True), simulate(batch, compiled=False)
+
+
+@pytest.fixture(scope="module")
+def paper_batch() -> BatchParams:
+    return pack([scenario for _, _, scenario in paper_scenarios()])
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_paper_cases_identical(paper_batch, planner):
+    compiled, per_step = both_paths(_as_planner(paper_batch, planner))
+    assert_identical(compiled, per_step)
+    assert compiled.metrics.values.size and np.isfinite(compiled.metrics.min_clearance_m).all()
+
+
+@pytest.mark.parametrize("planner", ["fsm", "aeb"])
+def test_euro_ncap_grid_identical(planner):
+    tests = select(["CPNC", "CPTA", "CBLA"], night=True, protocol="2026")
+    batch = pack([build_test(test, planner, v2x=True).scenario for test in tests[::3]])
+    assert batch.obstacles.x_m.shape[1] > 0  # the grid's obstruction occludes the sensor: covered as well
+    compiled, per_step = both_paths(batch)
+    assert_identical(compiled, per_step)
+    assert compiled.metrics.collided.any() or np.isfinite(compiled.metrics.first_sensor_s).any()
+
+
+def _realistic(paper_pedestrian_dict: dict, seed: int, speed_mps: float) -> dict:
+    data = copy.deepcopy(paper_pedestrian_dict)
+    return deep_update(
+        data,
+        {
+            "sim": {"seed": seed},
+            "ego": {"cruise_speed_mps": speed_mps},
+            "sensor": {"latency_s": 0.1, "detection_probability": 0.8, "position_sigma_m": 0.2},
+            "v2x": {
+                "enabled": True,
+                "channel": {
+                    "generation": {"mode": "periodic", "rate_hz": 10},
+                    "latency_s": 0.1,
+                    "jitter_s": 0.05,
+                    "track_max_age_s": 1.5,
+                    "loss": {"model": "bernoulli", "probability": 0.3},
+                },
+            },
+        },
+    )
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_realistic_sensor_and_channel_identical(paper_pedestrian_dict, planner):
+    scenarios = [
+        scenario_from_mapping(_realistic(paper_pedestrian_dict, seed, 11.0 + seed), f"v{seed}") for seed in range(6)
+    ]
+    compiled, per_step = both_paths(_as_planner(pack(scenarios), planner))
+    assert_identical(compiled, per_step)
+    assert np.isfinite(compiled.metrics.first_v2x_s).any()
+
+
+@settings(max_examples=6, deadline=None)
+@given(
+    speeds=st.lists(st.floats(5.0, 22.0), min_size=1, max_size=5),
+    walk_mps=st.floats(0.5, 3.0),
+    start_s=st.floats(0.0, 2.0),
+    v2x=st.booleans(),
+)
+def test_varied_pedestrian_crossings_identical(paper_pedestrian_dict, speeds, walk_mps, start_s, v2x):
+    scenarios = []
+    for i, speed in enumerate(speeds):
+        data = deep_update(
+            copy.deepcopy(paper_pedestrian_dict),
+            {"ego": {"cruise_speed_mps": speed}, "v2x": {"enabled": v2x}},
+        )
+        data["vrus"][0].update(top_speed_mps=walk_mps, trigger={"at_time_s": start_s})
+        scenarios.append(scenario_from_mapping(data, f"v{i}"))
+    compiled, per_step = both_paths(pack(scenarios))
+    assert_identical(compiled, per_step)
+
+
+def test_more_transitions_than_recorded_falls_back(paper_batch, monkeypatch):
+    """A variant that changes mode more often than the compiled run has room for is rerun per step."""
+    reference = simulate(paper_batch, compiled=False)
+    assert max(np.bincount([row[1] for row in reference.metrics.transitions])) > 1
+    monkeypatch.setattr(compiled_run, "TRANSITIONS_PER_VARIANT", 1)
+    assert_identical(simulate(paper_batch), reference)
+
+
+def test_what_takes_the_per_step_path(paper_batch):
+    fsm = make_planner("fsm")
+    assert compiled_run.compiled_support(paper_batch, fsm, None, trace=False) is None
+    assert "trace" in compiled_run.compiled_support(paper_batch, fsm, None, trace=True)
+
+    class Braking(HoldSpeedPlanner):  # a subclass may act differently: never compiled
+        pass
+
+    assert "Braking" in compiled_run.compiled_support(paper_batch, Braking(), None, trace=False)
+    with pytest.raises(ValueError, match="a trace is recorded"):
+        simulate(paper_batch, trace=True, compiled=True)
+    traced = simulate(paper_batch, trace=True)  # falls back by itself
+    assert_identical(simulate(paper_batch), simulate(paper_batch, compiled=False))
+    untraced = simulate(paper_batch).metrics.values
+    np.testing.assert_array_equal(traced.metrics.values[RESULT_ROWS], untraced[RESULT_ROWS], strict=True)
