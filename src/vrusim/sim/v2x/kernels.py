@@ -299,7 +299,7 @@ def channel_variant(
             age[b, k] = 0.0
             for row in range(6):
                 out_kin[row, b, k] = kin[row, b, k]
-            return
+            continue
         a = (n - g) * dt
         received[b, k] = True
         age[b, k] = a
