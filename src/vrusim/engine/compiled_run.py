@@ -30,6 +30,7 @@ from vrusim.engine.accumulators import (
     record_detection_variant,
     record_step_variant,
 )
+from vrusim.engine.stepper import checked_planner_command
 from vrusim.engine.surrogates import surrogates_variant
 from vrusim.geometry.contact import clearance_variant
 from vrusim.geometry.ttc import ttc_variant
@@ -449,9 +450,7 @@ def run_compiled(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics) 
     if (status == _FULL).any():
         return None
     if (status == _BAD_COMMAND).any():
-        from vrusim.engine.simulate import _checked_command  # the per-step path's message
-
-        _checked_command(scratch[16], size, type(planner).__name__)
+        checked_planner_command(scratch[16], size, type(planner).__name__)  # raises the per-step path's error
     _collect_transitions(metrics, batch.dt_s, metrics_tuple[5:9])
     return int(steps_run.max()) if size else 0
 

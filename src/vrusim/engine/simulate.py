@@ -16,7 +16,7 @@ import numpy as np
 
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.compiled_run import compiled_support, run_compiled
-from vrusim.engine.stepper import BatchStepper
+from vrusim.engine.stepper import BatchStepper, checked_planner_command
 from vrusim.engine.trace_recorder import TraceRecorder, check_trace_budget
 from vrusim.errors import UserInputError
 from vrusim.limits import check_limit
@@ -99,7 +99,7 @@ def simulate(
         work, active = stepper.work, stepper.active
         old_mode = planner.mode if declared else planner_mode(planner)
         old_mode = None if old_mode is None else old_mode.copy()
-        command = _checked_command(planner.act(observation), stepper.params.size, planner_name)
+        command = checked_planner_command(planner.act(observation), stepper.params.size, planner_name)
         if old_mode is not None:
             work.record_modes(observation.t_s, active, old_mode, planner.mode if declared else planner_mode(planner))
         warning = planner.warning if declared else planner_warning(planner)
@@ -122,17 +122,3 @@ def check_budgets(batch: BatchParams, trace: bool) -> None:
     check_limit("batch_variant_steps", batch.size * batch.n_steps, what)
     if trace:
         check_trace_budget(batch.n_steps, batch.size, batch.vru_slots)
-
-
-def _checked_command(command, size: int, name: str) -> np.ndarray:
-    """The planner's acceleration command as a finite float array of shape [B], or one clear error."""
-    try:
-        array = np.asarray(command, dtype=float)
-    except (TypeError, ValueError):
-        array = np.full(0, np.nan)
-    if array.shape != (size,) or not np.isfinite(array).all():
-        raise UserInputError(
-            f"planner.name: planner {name!r} must return a finite acceleration per variant, shape ({size},); "
-            f"got shape {array.shape}" + ("" if array.shape != (size,) else " with NaN or infinite values")
-        )
-    return array

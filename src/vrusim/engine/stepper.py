@@ -314,3 +314,17 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     view = array.view()
     view.flags.writeable = False
     return view
+
+
+def checked_planner_command(command, size: int, name: str) -> np.ndarray:
+    """The planner's acceleration command as a finite float array of shape [B], or one clear error."""
+    try:
+        array = np.asarray(command, dtype=float)
+    except (TypeError, ValueError):
+        array = np.full(0, np.nan)
+    if array.shape != (size,) or not np.isfinite(array).all():
+        raise UserInputError(
+            f"planner.name: planner {name!r} must return a finite acceleration per variant, shape ({size},); "
+            f"got shape {array.shape}" + ("" if array.shape != (size,) else " with NaN or infinite values")
+        )
+    return array
