@@ -15,7 +15,7 @@ from matplotlib.colors import to_rgba
 from matplotlib.patches import Polygon
 
 import vrusim.gym  # noqa: F401  (registers the ids)
-from vrusim.gym import VruEnv
+from vrusim.gym import VruEnv, VruVectorEnv
 from vrusim.gym.render import FRAME_DPI, FRAME_WIDTH_IN
 from vrusim.scenario.schema import Scenario
 from vrusim.viz.scene import scene_figure
@@ -174,3 +174,8 @@ def test_rgb_array_frames_are_those_of_a_fresh_figure():
 def test_a_bad_render_mode_names_the_option_and_the_accepted_values(mode):
     with pytest.raises(ValueError, match=r"render_mode: .* expected one of None, 'human', 'rgb_array'"):
         VruEnv("paper:pedestrian", render_mode=mode)
+
+
+def test_the_vector_env_names_the_option_when_asked_to_render():
+    with pytest.raises(ValueError, match=r"render_mode: 'human' is not supported; expected None"):
+        VruVectorEnv(2, render_mode="human")
