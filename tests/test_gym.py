@@ -194,7 +194,7 @@ def test_rgb_array_frames_follow_the_episode_at_a_fixed_size():
     assert later.shape == first.shape  # video recorders need one frame size
     assert not np.array_equal(later, first)  # time label and positions moved on
     with pytest.raises(ValueError, match="render_mode"):
-        VruEnv("paper:pedestrian", render_mode="human")
+        VruEnv("paper:pedestrian", render_mode="rgb")  # human mode: tests/test_gym_render.py
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # advice only, as above
         check_env(gymnasium.make("vrusim/PaperEscooter-v0", render_mode="rgb_array").unwrapped)

@@ -7,11 +7,12 @@ from typing import Any, ClassVar
 import gymnasium
 import numpy as np
 from gymnasium import spaces
+from matplotlib.figure import Figure
 
 from vrusim.engine.stepper import BatchStepper
 from vrusim.gym.episodes import EpisodeBatch
 from vrusim.gym.features import DEFAULT_VRU_SLOTS, feature_names, observation_space
-from vrusim.gym.render import EpisodeFrames
+from vrusim.gym.render import EpisodeFrames, HumanWindow
 from vrusim.gym.reward import RewardWeights
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.observation import Observation
@@ -42,7 +43,9 @@ class VruEnv(gymnasium.Env):
     the scenario's `sim.seed` keys its sensor and V2X randomness; `reset(seed=...)` only seeds `np_random`.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 100}
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 100}
+    """`render_fps`: frames per second of wall-clock time, one frame per step, so 1 / `sim.dt_s` plays the episode
+    in real time (each instance sets its own; 100 here is the default `sim.dt_s` of 0.01 s)."""
 
     def __init__(
         self,
@@ -53,7 +56,8 @@ class VruEnv(gymnasium.Env):
         render_mode: str | None = None,
     ) -> None:
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"render_mode: {render_mode!r} is not supported; expected None or 'rgb_array'")
+            accepted = ", ".join(repr(mode) for mode in (None, *self.metadata["render_modes"]))
+            raise ValueError(f"render_mode: {render_mode!r} is not supported; expected one of {accepted}")
         self.scenario = scenario_of(scenario, v2x, argument="scenario")
         self.metadata = {**type(self).metadata, "render_fps": 1.0 / self.scenario.sim.dt_s}  # one frame a step
         if len(self.scenario.vrus) > vru_slots:
@@ -67,7 +71,8 @@ class VruEnv(gymnasium.Env):
         self._low, self._high = -self.params.max_decel_mps2, self.params.max_accel_mps2
         self._episodes = EpisodeBatch(self.params, vru_slots, reward_weights or RewardWeights())
         self._running = False
-        self._frames = EpisodeFrames(self.scenario) if render_mode == "rgb_array" else None
+        self._frames = EpisodeFrames(self.scenario) if render_mode is not None else None
+        self._window = HumanWindow(self._frames, self.metadata["render_fps"]) if render_mode == "human" else None
 
     @property
     def planner_observation(self) -> Observation | None:
@@ -81,6 +86,8 @@ class VruEnv(gymnasium.Env):
         observation = self._episodes.start()[0]
         if self._frames is not None:
             self._frames.restart(self._engine)
+        if self._window is not None:
+            self._window.show(self._episodes.stepper.run(), new_episode=True)
         return observation, {"t_s": 0.0}
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -91,6 +98,8 @@ class VruEnv(gymnasium.Env):
         obs, reward, terminated, truncated = self._episodes.step(command)
         if self._frames is not None:
             self._frames.add(self._engine, command)
+        if self._window is not None:
+            self._window.show(self._episodes.stepper.run())
         done_terminated, done_truncated = bool(terminated[0]), bool(truncated[0])
         info: dict[str, Any] = {"t_s": self._episodes.stepper.t_s}
         if done_terminated or done_truncated:
@@ -103,10 +112,29 @@ class VruEnv(gymnasium.Env):
         """The engine step of the current episode."""
         return self._episodes.stepper.stepper
 
+    @property
+    def figure(self) -> Figure | None:
+        """The matplotlib figure the scene is drawn on (None before the first frame; in human mode also after the
+        window was closed)."""
+        if self._window is not None:
+            return self._window.figure
+        return None if self._frames is None or self._frames.panel is None else self._frames.panel.figure
+
     def render(self) -> np.ndarray | None:
-        """With render_mode="rgb_array": the current state as an RGB image (uint8 [H, W, 3]); else None."""
+        """rgb_array: the current state as an RGB image (uint8 [H, W, 3]). human: None (`reset()` and `step()`
+        already drew the window, as Gymnasium specifies). No render_mode: None."""
         if self._frames is None:
             return None
-        if not self._frames.recorder.rows:
+        if not self._frames.started:
             raise RuntimeError("VruEnv.render: call reset() first")
+        if self._window is not None:
+            return None
         return self._frames.frame(self._episodes.stepper.run())
+
+    def close(self) -> None:
+        """Close the human-mode window; release the rgb_array figure."""
+        if self._window is not None:
+            self._window.close()
+        elif self._frames is not None:
+            self._frames.forget_figure()
+        super().close()

@@ -69,7 +69,10 @@ class VruVectorEnv(VectorEnv):
         render_mode: str | None = None,
     ) -> None:
         if render_mode is not None:
-            raise ValueError(f"render_mode: {render_mode!r} is not supported (no rendering yet)")
+            raise ValueError(
+                f"render_mode: {render_mode!r} is not supported; expected None (the vector environment does not"
+                " render; VruEnv takes 'human' or 'rgb_array')"
+            )
         self.scenarios = _scenarios(scenario, num_envs, v2x)
         self.num_envs = len(self.scenarios)
         self.params = pack(self.scenarios)

@@ -19,6 +19,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.legend import Legend
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Patch, Polygon, Rectangle
 
@@ -385,6 +386,13 @@ class SceneArtists:
         """Move to the last sample at or before `t_s`."""
         self.update(self.recording.index_at(t_s))
 
+    def set_recording(self, recording: Recording) -> None:
+        """Follow a newer recording of the same scenario (a growing episode: more samples, new events); the static
+        layers stay as drawn. Call `update` next."""
+        self.recording = recording
+        impact_s = recording.events_s.get("impact")
+        self.impact_index = None if impact_s is None else recording.nearest_index(impact_s)
+
 
 def legend_handles(recordings: list[Recording]) -> tuple[list, list[str]]:
     """Proxy artists and labels explaining a scene's layers (only the VRU types and layers present)."""
@@ -435,18 +443,46 @@ def draw_scene(ax: Axes, recording: Recording, t_s: float, window: ViewWindow | 
     return artists
 
 
+def scene_figure_size_in(width_in: float, window: ViewWindow) -> tuple[float, float]:
+    """Width and height, inches, of a `scene_figure` `width_in` wide showing `window` (legend room included)."""
+    return width_in, max(width_in * window.height_m / window.width_m + 1.3, 2.5)
+
+
+class ScenePanel:
+    """`scene_figure`'s content (scene axes, title, legend below) on an empty `figure` with a constrained layout;
+    `show` redraws it in place for a newer recording of the same scenario (a growing episode), so one figure can
+    follow a run step by step: the static layers are drawn once, the legend is rebuilt only when its entries
+    change (an impact adds one)."""
+
+    def __init__(self, figure: Figure, recording: Recording, window: ViewWindow) -> None:
+        self.figure = figure
+        ax = figure.add_subplot()
+        self.artists = SceneArtists(ax, recording, window)
+        ax.set_title(recording.scenario.name, fontsize=9, loc="left")
+        self._legend: Legend | None = None
+        self._labels: list[str] = []
+
+    def show(self, recording: Recording, t_s: float) -> None:
+        """Draw `recording` at time `t_s`, s (last sample at or before it)."""
+        self.artists.set_recording(recording)
+        handles, labels = legend_handles([recording])
+        if labels != self._labels:
+            if self._legend is not None:
+                self._legend.remove()
+            self._legend = self.figure.legend(
+                handles, labels, loc="outside lower center", ncol=min(len(handles), 6), fontsize=7, frameon=False
+            )
+            self._labels = labels
+        self.artists.update_time(t_s)
+
+
 def scene_figure(
     recording: Recording, t_s: float, width_in: float = 9.0, dpi: float = 100.0, window: ViewWindow | None = None
 ) -> Figure:
     """A one-panel Figure (Agg canvas, no pyplot state) of `recording` at `t_s`, with a legend below; the view
     fits the whole run unless a `window` is given."""
     window = window if window is not None else view_window(recording)
-    height_in = max(width_in * window.height_m / window.width_m + 1.3, 2.5)
-    fig = Figure(figsize=(width_in, height_in), dpi=dpi, layout="constrained")
+    fig = Figure(figsize=scene_figure_size_in(width_in, window), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
-    draw_scene(ax, recording, t_s, window)
-    ax.set_title(recording.scenario.name, fontsize=9, loc="left")
-    handles, labels = legend_handles([recording])
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(handles), 6), fontsize=7, frameon=False)
+    ScenePanel(fig, recording, window).show(recording, t_s)
     return fig
