@@ -62,7 +62,8 @@ def run(variants: int, batch_size: int, workers: int, threads: int | None = None
     with tempfile.TemporaryDirectory() as folder:
         spec = Path(folder) / "spec.yaml"
         spec.write_text(yaml.safe_dump(data))
-        env = dict(os.environ)
+        # as bench_cli: Python keeps its bytecode cache, as an installed copy does after its first run
+        env = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
         if threads is not None:
             env["NUMBA_NUM_THREADS"] = str(threads)
         command = [sys.executable, "-m", "vrusim", "sweep", str(spec), "--out", f"{folder}/out"]
