@@ -22,43 +22,70 @@ from vrusim.viz.scorecard2026_cells import (
     sub_element_title,
 )
 
+CELL_WIDTH = 4
+"""Characters per grid cell: a coloured block of 3 and a space."""
+GRID_GAP = 3
+"""Characters between two grids side by side."""
 
-def grid_table(assessment: Assessment2026, scenario: str) -> Group:
-    """A scenario's title (points / max) and compact grid: one coloured block per cell ("e": extended range,
-    "·": no test)."""
+
+def _centred(text: str, width: int) -> str:
+    """`text` centred in `width` characters (as Rich centred these cells: the odd space on the left)."""
+    excess = width - len(text)
+    return " " * (excess - excess // 2) + text + " " * (excess // 2)
+
+
+def _grid_lines(assessment: Assessment2026, scenario: str) -> list[Text]:
+    """A scenario's title (points / max) and compact grid as lines: one coloured block per cell ("e": extended
+    range, "·": no test). Built as fixed-width text, not a Rich table: the terminal scorecard draws 20-odd grids,
+    and measuring and laying them out as nested tables took 113 ms of `vrusim ncap`'s output, text 28 ms."""
     grid, cells = grid_cells(assessment, scenario)
-    table = Table(
-        box=None,
-        padding=(0, 0),
-        show_edge=False,
-    )
     corner = "IL%" if grid.column_axis == "impact_location" else "tgt"
-    table.add_column(corner, no_wrap=True)
-    for column in grid.columns:
-        table.add_column(compact_column(column).rjust(3), justify="center", no_wrap=True, min_width=4)
-    for row in grid.rows:
-        blocks = []
-        for column in grid.columns:
+    labels = [compact_row(row) + " " for row in grid.rows]
+    first = max(len(corner), *(len(label) for label in labels))
+    headers = [compact_column(column).rjust(3) for column in grid.columns]
+    widths = [max(CELL_WIDTH, len(header)) for header in headers]
+    title = f"{scenario} {assessment.scenarios[scenario].total:.2f}/{scenario_max_points(scenario):g}"
+    header_line = corner.ljust(first) + "".join(h.ljust(w) for h, w in zip(headers, widths, strict=True))
+    lines = [Text(title, style="bold"), Text(header_line, style="bold")]
+    for row, label in zip(grid.rows, labels, strict=True):
+        line = Text(label.ljust(first))
+        for column, width in zip(grid.columns, widths, strict=True):
             cell = cells.get((row, column))
             if cell is None:
-                blocks.append(Text(" · ", style="dim"))
+                line.append(_centred(" · ", width), style="dim")
             else:
                 mark = " e " if cell.range == "extended" else "   "
-                blocks.append(Text(mark, style=f"{ink(cell.colour)} on {COLOUR_HEX[cell.colour]}"))
-        table.add_row(compact_row(row) + " ", *blocks)
-    title = f"{scenario} {assessment.scenarios[scenario].total:.2f}/{scenario_max_points(scenario):g}"
-    return Group(Text(title, style="bold", no_wrap=True), table)
+                line.append(_centred(mark, width), style=f"{ink(cell.colour)} on {COLOUR_HEX[cell.colour]}")
+        lines.append(line)
+    return lines
+
+
+def _joined(lines: list[Text]) -> Text:
+    """Lines as one Text that Rich neither wraps nor justifies."""
+    return Text("\n", no_wrap=True, overflow="ignore").join(lines)
+
+
+def grid_table(assessment: Assessment2026, scenario: str) -> Text:
+    """A scenario's title (points / max) and compact grid (`_grid_lines`)."""
+    return _joined(_grid_lines(assessment, scenario))
+
+
+def _padded(line: Text, width: int) -> Text:
+    return Text.assemble(line, " " * (width - line.cell_len))
 
 
 def sub_element_grids(assessment: Assessment2026, name: str, scenarios: list[str]) -> Group:
-    """A sub-element's title and its scenario grids, two side by side (fits 80 columns)."""
-    layout = Table.grid(padding=(0, 3))
-    layout.add_column(vertical="top")
-    layout.add_column(vertical="top")
-    for k in range(0, len(scenarios), 2):
-        pair = [grid_table(assessment, s) for s in scenarios[k : k + 2]]
-        layout.add_row(*pair, *([""] * (2 - len(pair))))
-    return Group(Text(sub_element_title(assessment, name), style="bold underline"), layout)
+    """A sub-element's title and its scenario grids, two side by side (fits 80 columns), tops aligned."""
+    blocks = [_grid_lines(assessment, scenario) for scenario in scenarios]
+    widths = [max((line.cell_len for block in blocks[k::2] for line in block), default=0) for k in (0, 1)]
+    lines: list[Text] = []
+    for k in range(0, len(blocks), 2):
+        left, right = blocks[k], blocks[k + 1] if k + 1 < len(blocks) else []
+        for i in range(max(len(left), len(right))):
+            cell_left = left[i] if i < len(left) else Text()
+            cell_right = right[i] if i < len(right) else Text()
+            lines.append(Text.assemble(_padded(cell_left, widths[0]), " " * GRID_GAP, _padded(cell_right, widths[1])))
+    return Group(Text(sub_element_title(assessment, name), style="bold underline"), _joined(lines))
 
 
 def legend_text() -> Text:
