@@ -9,6 +9,7 @@ from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import parameters, per_vru_table, summary_table, transitions_table
+from vrusim.report.player import player
 from vrusim.report.run_charts import run_charts
 from vrusim.scenario.schema import Scenario
 from vrusim.sources import apply_planner_and_seed, scenario_file, scenario_of
@@ -84,6 +85,7 @@ def run_report(
                 ]
             ),
         ),
+        Section("player", "Scene player", player([recording], "player", chart_group="run")),
         Section("charts", "Interactive time series", run_charts(recording, "run")),
         Section("figures", "Figures", join(figures_of([recording], "run", scenario.name))),
         Section("parameters", "Parameters", parameters(scenario, file)),
