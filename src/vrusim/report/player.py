@@ -226,6 +226,12 @@ def _run(recording: Recording, label: str, colour: str, stride: int) -> dict[str
     }
 
 
+def run_colours(count: int) -> list[str]:
+    """The ego colour of each of `count` runs of one player (the first in the figures' ego blue)."""
+    spare = style.RECORDING_COLOURS
+    return [style.EGO_FACE if i == 0 else spare[i % len(spare)] for i in range(count)]
+
+
 def player_data(
     recordings: Sequence[Recording],
     labels: Sequence[str] | None = None,
@@ -240,10 +246,7 @@ def player_data(
     labels = list(labels) if labels is not None else style.recording_labels(recordings)
     sampling = choose_stride(recordings, budget_bytes)
     window = view_window(recordings)
-    colours = [
-        style.EGO_FACE if i == 0 else style.RECORDING_COLOURS[i % len(style.RECORDING_COLOURS)]
-        for i in range(len(recordings))
-    ]
+    colours = run_colours(len(recordings))
     return {
         "version": 1,
         "t_end_s": max(float(r.t_s[-1]) for r in recordings),

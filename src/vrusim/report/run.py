@@ -85,7 +85,7 @@ def run_report(
                 ]
             ),
         ),
-        Section("player", "Scene player", player([recording], "player", chart_group="run")),
+        Section("scene-player", "Scene player", player([recording], "player", chart_group="run")),
         Section("charts", "Interactive time series", run_charts(recording, "run")),
         Section("figures", "Figures", join(figures_of([recording], "run", scenario.name))),
         Section("parameters", "Parameters", parameters(scenario, file)),
