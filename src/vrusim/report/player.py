@@ -20,10 +20,12 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
+from uuid import uuid4
 
 import numpy as np
 
 from vrusim.report.html import Html, script_json, tag
+from vrusim.report.page import asset
 from vrusim.scenario.schema import Road, Scenario
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X
 from vrusim.viz import style
@@ -305,4 +307,18 @@ def player(
         id=element_id,
         data_group=chart_group,
         data_runs=runs,
+    )
+
+
+EMBED_STYLE = "--ink:#1d2430;--muted:#5b6472;--line:#d9dde3;--accent:#1f6fb2;font-family:system-ui,sans-serif"
+"""The report's colour variables, set on an embedded player's box (a notebook has no report style sheet)."""
+
+
+def embedded_player(recordings: Sequence[Recording], labels: Sequence[str] | None = None) -> str:
+    """The player as one HTML fragment with its style and script inline, under a fresh id (a Jupyter output;
+    several on one page each start once)."""
+    box = player(recordings, f"vrusim-player-{uuid4().hex[:12]}", labels=labels)
+    return (
+        f'<div class="vrusim-embed" style="{EMBED_STYLE}"><style>{asset("player.css")}</style>{box}'
+        f"<script>{asset('player.js')}</script></div>"
     )

@@ -93,6 +93,7 @@
   }
 
   function Player(box) {
+    if (box.getAttribute("data-ready")) return;  // started already (a notebook page holds several outputs)
     var data = JSON.parse(box.querySelector("script.player-data").textContent);
     var runs = data.runs, colours = data.colours, group = box.getAttribute("data-group");
     var state = { t: 0, playing: false, speed: 1, follow: data.follow, zoom: 1, panX: 0, panY: 0,
