@@ -228,6 +228,18 @@ def _run(recording: Recording, label: str, colour: str, stride: int) -> dict[str
     }
 
 
+def _with_sensor_reach(box: tuple[float, float, float, float], recordings: Sequence[Recording]) -> list[float]:
+    """The figures' view box grown to half the sensor range ahead of the ego at its first and last sample, m."""
+    x0, x1, y0, y1 = box
+    for rec in recordings:
+        trace, reach = rec.trace, rec.scenario.ego.length_m / 2 + rec.scenario.sensor.effective_range_m / 2
+        for i in (0, -1):
+            x = float(trace["ego_x_m"][i] + reach * trace["ego_heading_x"][i])
+            y = float(trace["ego_y_m"][i] + reach * trace["ego_heading_y"][i])
+            x0, x1, y0, y1 = min(x0, x), max(x1, x), min(y0, y), max(y1, y)
+    return [x0, x1, y0, y1]
+
+
 def run_colours(count: int) -> list[str]:
     """The ego colour of each of `count` runs of one player (the first in the figures' ego blue)."""
     spare = style.RECORDING_COLOURS
@@ -248,6 +260,7 @@ def player_data(
     labels = list(labels) if labels is not None else style.recording_labels(recordings)
     sampling = choose_stride(recordings, budget_bytes)
     window = view_window(recordings)
+    box = _with_sensor_reach(window.box, recordings)
     colours = run_colours(len(recordings))
     return {
         "version": 1,
@@ -256,7 +269,7 @@ def player_data(
         "stride": sampling.stride,
         "frame_bytes": sampling.bytes,
         "budget_bytes": budget_bytes,
-        "box_m": [round(v, 3) for v in window.box],
+        "box_m": [round(v, 3) for v in box],
         "follow_size_m": [round(window.width_m, 3), round(window.height_m, 3)],
         "follow": window.follow,
         "speeds": list(SPEEDS),
