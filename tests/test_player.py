@@ -209,3 +209,20 @@ def test_notebook_shows_the_player_of_a_single_run():
     assert data["runs"][0]["impact"] is not None
     several = run([CASE, CASE], v2x="off")._repr_html_()
     assert 'class="player"' not in several
+
+
+def test_ncap_report_adds_the_player_of_a_named_test(tmp_path):
+    folder = tmp_path / "ncap"
+    result = invoke("ncap", "--protocol", "2023", "--scenario", "CPNA-25", "--out", folder, "--json")
+    assert result.exit_code == 0, result.output
+    out = tmp_path / "ncap.html"
+    test_id = "CPNA-25/20kph/day"
+    result = invoke("report", folder, "--out", out, "--player", test_id)
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    data = json.loads(PLAYER_DATA.search(text).group(1))
+    assert [run["label"] for run in data["runs"]] == [test_id] and 'id="player-cpna-25-20kph-day"' in text
+    rec = record([scenario_of(f"2023:{test_id}", False)])[0]
+    assert data["runs"][0]["frames"]["x_m"][-1] == pytest.approx(rec.trace["ego_x_m"][-1], abs=1e-3)
+    assert_user_error(invoke("report", folder, "--out", out, "--player", "CPNA-99"), "--player", "CPNA-99")
+    assert_user_error(invoke("report", CASE, "--out", out, "--player", test_id), "--player")
