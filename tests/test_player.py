@@ -226,3 +226,15 @@ def test_ncap_report_adds_the_player_of_a_named_test(tmp_path):
     assert data["runs"][0]["frames"]["x_m"][-1] == pytest.approx(rec.trace["ego_x_m"][-1], abs=1e-3)
     assert_user_error(invoke("report", folder, "--out", out, "--player", "CPNA-99"), "--player", "CPNA-99")
     assert_user_error(invoke("report", CASE, "--out", out, "--player", test_id), "--player")
+
+
+def test_run_writes_its_report_with_the_player(tmp_path):
+    out = tmp_path / "run.html"
+    result = invoke("run", CASE, "--v2x", "on", "--report", out, "--json")
+    assert result.exit_code == 0, result.output
+    row = json.loads(result.stdout)
+    text = out.read_text()
+    data = json.loads(PLAYER_DATA.search(text).group(1))
+    assert data["runs"][0]["frames"]["t_s"][-1] == pytest.approx(row["end_time_s"])
+    assert data["runs"][0]["rsu"] is not None and 'id="run-speed"' in text
+    assert_user_error(invoke("run", CASE, "--report", tmp_path / "run.txt"), "--report", ".html")

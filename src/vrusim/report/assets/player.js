@@ -196,14 +196,14 @@
           var ghost = state.overlay && members.length > 1 && r !== members[0] ? 0.55 : 1;
           if (run.rsu) {
             el("circle", { cx: run.rsu.x_m, cy: run.rsu.y_m, r: run.rsu.comm_m, fill: colours.v2x,
-                           "fill-opacity": 0.06, stroke: colours.v2x, "stroke-width": 0.12, "stroke-dasharray": "1 0.7",
+                           "fill-opacity": 0.04, stroke: colours.v2x, "stroke-width": 0.12, "stroke-dasharray": "1 0.7",
                            class: "rsu-comm" }, g.v2x);
             el("circle", { cx: run.rsu.x_m, cy: run.rsu.y_m, r: run.rsu.coverage_m, fill: "none", stroke: colours.v2x,
                            "stroke-width": 0.1, "stroke-dasharray": "0.3 0.4", class: "rsu-coverage" }, g.v2x);
             el("polygon", { points: points([[run.rsu.x_m, run.rsu.y_m + 1.1], [run.rsu.x_m - 0.9, run.rsu.y_m - 0.6],
                                              [run.rsu.x_m + 0.9, run.rsu.y_m - 0.6]]),
                             fill: colours.v2x, stroke: "#fff", "stroke-width": 0.1, class: "rsu" }, g.v2x);
-            a.link = el("line", { stroke: colours.v2x, "stroke-width": 0.18, "stroke-dasharray": "0.6 0.4",
+            a.link = el("line", { stroke: colours.v2x, "stroke-width": 0.35, "stroke-dasharray": "1.2 0.6",
                                   visibility: "hidden", class: "v2x-message" }, g.v2x);
           }
           el("polyline", { points: points(run.route), fill: "none", stroke: colours.planned, "stroke-width": 0.1,
