@@ -192,3 +192,38 @@ def test_comparison_player_draws_every_run(browser, tmp_path):  # noqa: F811
     page.locator("#player .player-layers input[data-layer='v2x']").uncheck()
     assert page.locator("#player g[data-layer='v2x']").evaluate("g => g.getBoundingClientRect().width") == 0
     assert problems == []
+
+
+SECTOR_JS = """() => [...document.querySelectorAll('#player polygon.sector, #player polygon.shadow')].map(p =>
+  (p.getAttribute('points') || '').trim().split(/\\s+/).filter(Boolean).map(xy => xy.split(',').map(Number)))"""
+
+
+def test_sensor_sector_is_cut_where_the_figures_cut_it(browser, tmp_path):  # noqa: F811
+    """A pedestrian behind parked cars (CPNCO): the drawn sector equals the figures' ray casting (every other ray
+    of `viz.scene.visible_sector_xy`, 0.5° apart), and the occluded part is drawn as a shadow."""
+    from vrusim.viz.scene import _box_frames, visible_sector_xy
+
+    test_id = "2023:CPNCO-50/20kph/day"
+    out = tmp_path / "cpnco.html"
+    result = invoke("view", test_id, "--out", out, "--no-open")
+    assert result.exit_code == 0, result.output
+    scenario = scenario_of(test_id)
+    rec = record([scenario])[0]
+    page, problems = ready(browser, out)
+    t_s = 2.0  # a frame time: no interpolation
+    page.evaluate(f"window.vrusimPlayer.players['player'].seek({t_s})")
+    seen, shadow = page.evaluate(SECTOR_JS)
+    i = rec.nearest_index(t_s)
+    trace = rec.trace
+    hx, hy = trace["ego_heading_x"][i], trace["ego_heading_y"][i]
+    half = scenario.ego.length_m / 2
+    apex = np.array([trace["ego_x_m"][i] + hx * half, trace["ego_y_m"][i] + hy * half])
+    sensor = scenario.sensor
+    expected = visible_sector_xy(apex, math.degrees(math.atan2(hy, hx)), sensor.fov_deg, 20.0, _box_frames(scenario))
+    assert np.allclose(seen[0], apex, atol=2e-3)
+    assert np.allclose(np.array(seen[1:]), expected[1::2], atol=5e-3)  # the apex, then every other ray
+    reach = np.hypot(*(np.array(seen[1:]) - apex).T)
+    assert (reach < 19.9).sum() > 10  # the parked cars do cut it
+    assert len(shadow) == 2 * (len(seen) - 1)  # the cut points, then the full arc back
+    assert np.allclose(np.hypot(*(np.array(shadow[len(seen) - 1 :]) - apex).T), 20.0, atol=5e-3)
+    assert problems == []
