@@ -300,12 +300,13 @@ def player_data(
 def player(
     recordings: Sequence[Recording],
     element_id: str = "player",
-    chart_group: str | None = None,
+    chart_group: str | Sequence[str] | None = None,
     labels: Sequence[str] | None = None,
     budget_bytes: int = FRAME_BUDGET_BYTES,
 ) -> Html:
-    """The player's HTML: a box the script fills with controls and panels, its data inline; `chart_group`
-    links its time cursor with the report's charts of that group (report.js) both ways."""
+    """The player's HTML: a box the script fills with controls and panels, its data inline; `chart_group` (one
+    name or several) links its time cursor with the report's charts of those groups (report.js) both ways."""
+    groups = [chart_group] if isinstance(chart_group, str) else list(chart_group or ())
     data = player_data(recordings, labels, budget_bytes)
     runs = len(data["runs"])
     note = (
@@ -318,7 +319,7 @@ def player(
         script_json(data, class_="player-data"),
         class_="player",
         id=element_id,
-        data_group=chart_group,
+        data_group=" ".join(groups) or None,
         data_runs=runs,
     )
 

@@ -95,7 +95,8 @@
   function Player(box) {
     if (box.getAttribute("data-ready")) return;  // started already (a notebook page holds several outputs)
     var data = JSON.parse(box.querySelector("script.player-data").textContent);
-    var runs = data.runs, colours = data.colours, group = box.getAttribute("data-group");
+    var runs = data.runs, colours = data.colours;
+    var groups = (box.getAttribute("data-group") || "").split(/\s+/).filter(Boolean);  // linked chart groups
     var state = { t: 0, playing: false, speed: 1, follow: data.follow, zoom: 1, panX: 0, panY: 0,
                   overlay: runs.length === 1, hidden: {} };
     var panels = [], last = null, api;
@@ -366,7 +367,7 @@
       clock.textContent = "t = " + fmt(t, 2) + " / " + fmt(data.t_end_s, 2) + " s";
       if (document.activeElement !== scrub || !scrubbing) scrub.value = String(t);
       box.setAttribute("data-time-s", String(t));
-      if (group && window.vrusimCharts) window.vrusimCharts.cursor(group, t);
+      if (window.vrusimCharts) groups.forEach(function (g) { window.vrusimCharts.cursor(g, t); });
     }
 
     // ------------------------------------------------------------------------------------------- time
@@ -422,7 +423,9 @@
       else if (e.key === "ArrowRight") step(1);
       else if (e.key === "ArrowLeft") step(-1);
     });
-    if (group && window.vrusimCharts) window.vrusimCharts.onPick(group, function (x) { pause(); seek(x); });
+    if (window.vrusimCharts) {
+      groups.forEach(function (g) { window.vrusimCharts.onPick(g, function (x) { pause(); seek(x); }); });
+    }
 
     buildPanels();
     api = {

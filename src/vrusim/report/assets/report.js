@@ -96,6 +96,7 @@
     function fromPx(px) { return mx[0] + (px - mx[2]) / (mx[3] - mx[2]) * (mx[1] - mx[0]); }
 
     function show(x) {
+      if (x !== null && (x < Math.min(mx[0], mx[1]) || x > Math.max(mx[0], mx[1]))) x = null;  // off this chart
       if (x === null) {
         cross.setAttribute("visibility", "hidden");
         dots.forEach(function (d) { d.setAttribute("visibility", "hidden"); });
