@@ -181,8 +181,9 @@ def choose_stride(recordings: Sequence[Recording], budget_bytes: int = FRAME_BUD
     dt = min(r.scenario.sim.dt_s for r in recordings)
     stride = max(1, round(MIN_FRAME_STEP_S / dt))
     while True:
-        size = sum(_size(frames(r, stride)) for r in recordings)
-        count = max(len(frames(r, stride)["t_s"]) for r in recordings)
+        sampled = [frames(r, stride) for r in recordings]
+        size = sum(_size(f) for f in sampled)
+        count = max(len(f["t_s"]) for f in sampled)
         if size <= budget_bytes or count <= 2:
             return Sampling(stride, count, size)
         stride = max(stride + 1, math.ceil(stride * size / budget_bytes))
