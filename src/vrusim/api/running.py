@@ -21,6 +21,8 @@ if TYPE_CHECKING:
     import pandas
     import pyarrow as pa
 
+    from vrusim.viz.recording import Recording
+
 KEY_COLUMNS = (
     "scenario",
     "planner",
@@ -116,7 +118,22 @@ class Results:
         return f"Results({len(self)} runs: {outcome_counts(self.rows)}; planner {planners})"
 
     def _repr_html_(self) -> str:
-        return html_table(self.rows, KEY_COLUMNS, repr(self))
+        """The key columns as a table; a single traced run adds its scene player (`vrusim.report.player`)."""
+        text = html_table(self.rows, KEY_COLUMNS, repr(self))
+        recording = self._recording()
+        if recording is None:
+            return text
+        from vrusim.report.player import embedded_player
+
+        return text + embedded_player([recording])
+
+    def _recording(self) -> Recording | None:
+        """The Recording of a single run with a trace (None otherwise)."""
+        if len(self) != 1 or self._where[0].run.trace is None or self._where[0].run.params.size != 1:
+            return None
+        from vrusim.viz.recording import recordings_of
+
+        return recordings_of(self._where[0].run, [self.scenarios[0]])[0]
 
 
 def _sources(scenarios: ScenarioSource | Iterable[ScenarioSource]) -> tuple[list[ScenarioSource], bool]:

@@ -1,7 +1,7 @@
 """The `vrusim` command line: the Typer app, its commands (one module each) and the console-script entry point.
 
     vrusim run SOURCE [--planner NAME] [--v2x on|off] [--seed N] [--json] [--trace|--plot|--animate OUT]
-    vrusim paper | ncap | list | compare | sweep | summarize | report | export | import | examples
+    vrusim paper | ncap | list | compare | sweep | summarize | report | view | export | import | examples
     (`vrusim CMD --help` for each)
     vrusim --version
 
@@ -30,6 +30,7 @@ from vrusim.cli.report import report_command
 from vrusim.cli.run import run_command
 from vrusim.cli.summarize import summarize_command
 from vrusim.cli.sweep import sweep_command
+from vrusim.cli.view import view_command
 from vrusim.errors import UserInputError
 from vrusim.kernel_notices import compile_notices
 from vrusim.planners.permission import MODULE_PLANNERS_ENV, MODULE_PLANNERS_FLAG, allow_module_planners
@@ -44,6 +45,7 @@ COMMANDS: dict[str, Callable[..., None]] = {
     "sweep": sweep_command,
     "summarize": summarize_command,
     "report": report_command,
+    "view": view_command,
     "export": export_command,
     "import": import_command,
     "examples": examples_command,

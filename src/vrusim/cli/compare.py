@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich import box
@@ -11,8 +11,21 @@ from rich.markup import escape
 from rich.table import Table
 
 from vrusim.cli.cells import number
-from vrusim.cli.options import JsonOption, OneSource, planner_names, planner_option, seed_option, split_names
+from vrusim.cli.options import (
+    JsonOption,
+    OneSource,
+    ReportOption,
+    planner_names,
+    planner_option,
+    seed_option,
+    split_names,
+)
 from vrusim.cli.output import console, print_json, user_errors, warn
+from vrusim.cli.report import check_report_option, write_report_option
+
+if TYPE_CHECKING:
+    from vrusim.report import Report
+    from vrusim.scenario.schema import Scenario
 
 KEYS = ("Planner", "V2X")
 
@@ -77,9 +90,12 @@ def compare_command(
         int, seed_option("First seed: each combination uses seeds N, N + 1, … (--seeds of them). Default: 0.")
     ] = 0,
     as_json: JsonOption = False,
+    report: ReportOption = None,
 ) -> None:
-    """Run every planner with every V2X setting on one scenario and compare outcomes and scores."""
+    """Run every planner with every V2X setting on one scenario and compare outcomes and scores; --report adds
+    a scene player with one run of each combination side by side or overlaid on one timeline."""
     with user_errors():
+        check_report_option(report)
         from vrusim.sources import single_source
         from vrusim.studies.compare import compare
 
@@ -88,6 +104,8 @@ def compare_command(
         base = single_source(source, catalogue_v2x=True)  # a catalogue test brings its roadside unit
         channels = _user_channels(profiles) if profiles is not None else None
         rows = compare(base, names, settings, seeds, channels, first_seed=seed)
+        if report is not None:
+            write_report_option(report, lambda: _report(base, rows, seeds, channels, seed), quiet=as_json)
     if as_json:
         print_json(rows)
         return
@@ -95,6 +113,19 @@ def compare_command(
     runs = f"{seeds} seed{'s' if seeds > 1 else ''} each"
     terminal.print(_outcome_table(rows, f"{escape(base.name)}: planners × V2X ({runs})"))
     terminal.print(_score_table(rows))
+
+
+def _report(base: Scenario, rows: list[dict], seeds: int, channels: dict[str, dict] | None, first_seed: int) -> Report:
+    """The compare report: the rows, and one traced run (the first seed) of each combination."""
+    from vrusim.report.compare import compare_report, label_of
+    from vrusim.studies.compare import Combination, variant
+    from vrusim.viz.recording import record
+
+    combinations = [Combination(row["planner"], row["v2x"]) for row in rows]
+    scenarios = [variant(base, c, first_seed, (channels or {}).get(c.v2x)) for c in combinations]
+    recordings = [record([scenario])[0] for scenario in scenarios]  # one batch per planner and setting
+    labels = [label_of(c.planner, c.v2x) for c in combinations]
+    return compare_report(rows, recordings, labels, base.name, seeds)
 
 
 def _user_channels(path: Path) -> dict[str, dict]:

@@ -50,6 +50,14 @@ def report_command(
     bins: Annotated[
         int, typer.Option("--bins", help="Sweep only: numeric parameters with more values are cut into this many bins.")
     ] = 10,
+    player: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--player",
+            metavar="TEST-ID",
+            help="ncap folder only: add a scene player of this test, run again as assessed (repeatable).",
+        ),
+    ] = None,
     as_json: JsonOption = False,
 ) -> None:
     """Write one self-contained HTML report (tables, figures, interactive charts, parameters, code version)."""
@@ -61,7 +69,7 @@ def report_command(
         check_output(check_output_file(out, "--out"))
         if bins < 1:
             raise UserInputError(f"--bins: expected a whole number ≥ 1, got {bins}")
-        report = build_report(source, switch_value(v2x), bins, chosen, seed)
+        report = build_report(source, switch_value(v2x), bins, chosen, seed, player or ())
         size = write_report(report, out)
     if as_json:
         print_json({"out": str(out), "kind": report.kind, "bytes": size})

@@ -15,6 +15,7 @@ from vrusim.cli.options import (
     JsonOption,
     LenientOption,
     OneSource,
+    ReportOption,
     V2XSwitch,
     file_option,
     one_planner,
@@ -24,6 +25,7 @@ from vrusim.cli.options import (
     v2x_switch_option,
 )
 from vrusim.cli.output import console, named_errors, print_json, user_errors
+from vrusim.cli.report import check_report_option, write_report_option
 from vrusim.errors import UserInputError
 
 
@@ -72,6 +74,7 @@ def run_command(
             "--animate", "OUT.gif|OUT.mp4", "Also write an animation of the run, 25 frames per simulated second."
         ),
     ] = None,
+    report: ReportOption = None,
 ) -> None:
     """Simulate one scenario (a YAML file, a bundled scenario or a catalogue test) and print its summary."""
     with user_errors():
@@ -88,6 +91,7 @@ def run_command(
             with named_errors("--trace"):
                 check_trace_path(trace)
         check_run_outputs(plot, animate)
+        check_report_option(report)
         given: object = source
         if str(source).lower().endswith(".xosc"):
             from vrusim.cli.importing import imported_scenario
@@ -106,6 +110,13 @@ def run_command(
             with named_errors("--trace"):
                 rows_written = write_trace(result, trace)
         written = write_run_outputs(result, scenario, plot, animate) if pictures else []
+        if report is not None:
+            from vrusim.report.run import scenario_report
+            from vrusim.sources import scenario_file
+
+            file = None if str(source).lower().endswith(".xosc") else scenario_file(source)
+            build = lambda: scenario_report(scenario, file, source, switch_value(v2x))  # noqa: E731
+            write_report_option(report, build, quiet=as_json)
     if as_json:
         print_json(row)
         return

@@ -22,6 +22,8 @@ CONTENT_SECURITY_POLICY = (
     "form-action 'none'"
 )
 """Nothing but what is inside the file may load."""
+PLAYER_MARK = '<div class="player"'
+"""How a section holding a scene player (`report.player`) starts it: the page then inlines player.js and .css."""
 RESULTS_ID = "results"
 """id of the `<script type="application/json">` holding the report's results document."""
 
@@ -88,6 +90,9 @@ def render(report: Report) -> str:
         script_json({"kind": report.kind, "code": version, **report.results}, element_id=RESULTS_ID),
         Html(f"<script>{asset('report.js')}</script>"),
     ]
+    players = any(PLAYER_MARK in s.content for s in sections)
+    if players:
+        body.append(Html(f"<script>{asset('player.js')}</script>"))
     head = join(
         [
             Html('<meta charset="utf-8">'),
@@ -96,6 +101,7 @@ def render(report: Report) -> str:
             Html(f'<meta name="generator" content="vrusim {esc(version["vrusim"])}">'),
             tag("title", report.title),
             Html(f"<style>{asset('report.css')}</style>"),
+            Html(f"<style>{asset('player.css')}</style>") if players else None,
         ]
     )
     opening = f'<!DOCTYPE html>\n<html lang="en" data-kind="{esc(report.kind)}">\n'

@@ -10,6 +10,7 @@ from vrusim.paper.cases import paper_scenarios, reproduce, scenario_dir
 from vrusim.report.html import Column, Html, facts, join, table, tag
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import parameters
+from vrusim.report.player import player
 from vrusim.report.run import figures_of
 from vrusim.report.run_charts import run_charts
 from vrusim.viz.recording import record
@@ -127,7 +128,9 @@ def paper_report(result: dict[str, Any] | None = None) -> Report:
             tag("h3", f"V2X {'on' if v2x else 'off'}") + run_charts(rec, f"{case.key}-{'on' if v2x else 'off'}")
             for (_, v2x, _), rec in zip(runs[index : index + 2], pair, strict=True)
         ]
-        content = join([*charts, *figures_of(pair, case.key, case.title)])
+        groups = [f"{case.key}-{'on' if v2x else 'off'}" for _, v2x, _ in runs[index : index + 2]]
+        scene = tag("h3", "Scene player, V2X off and on") + player(pair, f"player-{case.key}", chart_group=groups)
+        content = join([scene, *charts, *figures_of(pair, case.key, case.title)])
         case_sections.append(Section(f"case-{case.key}", case.title, content))
     files = [(scenario, scenario_dir() / case.file_name, case.title) for case, v2x, scenario in runs if not v2x]
     sections = [

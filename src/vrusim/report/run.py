@@ -9,6 +9,7 @@ from vrusim.report import figures
 from vrusim.report.html import Column, Html, facts, join, table
 from vrusim.report.page import Report, Section
 from vrusim.report.parts import parameters, per_vru_table, summary_table, transitions_table
+from vrusim.report.player import player
 from vrusim.report.run_charts import run_charts
 from vrusim.scenario.schema import Scenario
 from vrusim.sources import apply_planner_and_seed, scenario_file, scenario_of
@@ -67,6 +68,14 @@ def run_report(
     is on) with a trace and report it; V2X, planner and seed are forced when given."""
     file = scenario_file(str(source))
     scenario = apply_planner_and_seed(scenario_of(str(source), v2x, option="--v2x"), planner, seed)
+    return scenario_report(scenario, file, str(source), v2x)
+
+
+def scenario_report(
+    scenario: Scenario, file: Path | None = None, source: str | None = None, v2x_forced: bool | None = None
+) -> Report:
+    """Simulate `scenario` as it is, with a trace, and report it (`file`: the file it was read from, shown as
+    written; `source` and `v2x_forced` go into the results document)."""
     recording = record([scenario])[0]
     row = recording.summary
     outcome = outcome_of(row)
@@ -84,6 +93,7 @@ def run_report(
                 ]
             ),
         ),
+        Section("scene-player", "Scene player", player([recording], "player", chart_group="run")),
         Section("charts", "Interactive time series", run_charts(recording, "run")),
         Section("figures", "Figures", join(figures_of([recording], "run", scenario.name))),
         Section("parameters", "Parameters", parameters(scenario, file)),
@@ -93,5 +103,5 @@ def run_report(
         title=f"vrusim run: {scenario.name}",
         lead=f"{scenario.name}: {outcome} (V2X {'on' if row['v2x'] else 'off'}, planner {row['planner']}).",
         sections=sections,
-        results={"source": str(source), "v2x_forced": v2x, "row": row},
+        results={"source": source if source is not None else scenario.name, "v2x_forced": v2x_forced, "row": row},
     )

@@ -7,6 +7,8 @@ so a failure leaves no half-written report (and an existing one untouched).
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
+from dataclasses import replace
 from enum import StrEnum
 from pathlib import Path
 
@@ -75,11 +77,19 @@ def check_output(path: Path, option: str = "--out") -> None:
 
 
 def build_report(
-    source: str, v2x: bool | None = None, bins: int = 10, planner: str | None = None, seed: int | None = None
+    source: str,
+    v2x: bool | None = None,
+    bins: int = 10,
+    planner: str | None = None,
+    seed: int | None = None,
+    players: Sequence[str] = (),
 ) -> Report:
     """The report of SOURCE (see `source_kind`); `v2x`, `planner` and `seed` are forced on a run of a scenario (file,
-    bundled or catalogue test), `bins` groups sweeps."""
+    bundled or catalogue test), `bins` groups sweeps, `players` adds a scene player of each named test to an ncap
+    report."""
     kind = source_kind(source)
+    if players and kind is not SourceKind.ncap:
+        raise UserInputError("--player: only for a `vrusim ncap --out` folder (a run report has its player)")
     for option, value in (("--v2x", v2x), ("--planner", planner), ("--seed", seed)):
         if value is not None and kind is not SourceKind.run:
             raise UserInputError(f"{option}: only applies to a scenario file or a catalogue test")
@@ -92,9 +102,14 @@ def build_report(
 
         return run_report(source, v2x, planner, seed)
     if kind is SourceKind.ncap:
-        from vrusim.report.ncap import ncap_report_from_folder
+        from vrusim.report.ncap import ncap_report_from_folder, read_rows
 
-        return ncap_report_from_folder(Path(source))
+        report = ncap_report_from_folder(Path(source))
+        if players:
+            from vrusim.report.ncap_player import test_players
+
+            report = replace(report, sections=[*report.sections, *test_players(read_rows(Path(source)), players)])
+        return report
     from vrusim.report.sweep import sweep_report
 
     return sweep_report(Path(source), bins)

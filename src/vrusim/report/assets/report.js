@@ -1,5 +1,5 @@
 /* vrusim report: sortable and filterable tables, interactive SVG charts (hover read-out, synced crosshair,
-   series toggles). Plain ES2017, no libraries, nothing fetched. */
+   series toggles, a time cursor shared with the scene player). Plain ES2017, no libraries, nothing fetched. */
 "use strict";
 (function () {
   function cellValue(row, index) {
@@ -72,7 +72,16 @@
     return Number(value).toFixed(digits);
   }
 
-  var groups = {};
+  var groups = {}, pinned = {}, pickers = {};
+
+  // the scene player (player.js) pins a time cursor on a group's charts and hears where a chart is clicked
+  window.vrusimCharts = {
+    cursor: function (group, x) {
+      pinned[group] = x;
+      (groups[group] || []).forEach(function (show) { show(x); });
+    },
+    onPick: function (group, listener) { (pickers[group] = pickers[group] || []).push(listener); },
+  };
 
   function makeChart(box) {
     var svg = box.querySelector("svg");
@@ -87,6 +96,7 @@
     function fromPx(px) { return mx[0] + (px - mx[2]) / (mx[3] - mx[2]) * (mx[1] - mx[0]); }
 
     function show(x) {
+      if (x !== null && (x < Math.min(mx[0], mx[1]) || x > Math.max(mx[0], mx[1]))) x = null;  // off this chart
       if (x === null) {
         cross.setAttribute("visibility", "hidden");
         dots.forEach(function (d) { d.setAttribute("visibility", "hidden"); });
@@ -127,7 +137,13 @@
     members.push(show);
     function broadcast(x) { (spec.group ? members : [show]).forEach(function (f) { f(x); }); }
     svg.addEventListener("mousemove", function (e) { broadcast(pointer(e)); });
-    svg.addEventListener("mouseleave", function () { broadcast(null); });
+    svg.addEventListener("mouseleave", function () {
+      broadcast(spec.group && pinned[spec.group] !== undefined ? pinned[spec.group] : null);
+    });
+    svg.addEventListener("click", function (e) {
+      var x = pointer(e);
+      if (x !== null && spec.group) (pickers[spec.group] || []).forEach(function (f) { f(x); });
+    });
 
     box.querySelectorAll(".legend button").forEach(function (button) {
       button.addEventListener("click", function () {
@@ -139,7 +155,7 @@
         });
       });
     });
-    show(null);
+    show(spec.group && pinned[spec.group] !== undefined ? pinned[spec.group] : null);
     box.setAttribute("data-ready", "true");
   }
 
