@@ -126,6 +126,7 @@ def _check_trace_table(table, steps: int) -> None:
         "vru0_speed_mps",
         "vru0_detected",
         "vru0_source",
+        "vru0_v2x_age_s",
     ]
     assert table.column_names == expected
     data = table.to_pydict()

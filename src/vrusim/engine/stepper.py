@@ -32,7 +32,7 @@ from vrusim.sim.sensing.sector import sense
 from vrusim.sim.sensing.sensor_model import SensorModel, make_sensor_model
 from vrusim.sim.state import EgoState, initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import make_channel
-from vrusim.sim.v2x.messages import Channel, rsu_broadcast
+from vrusim.sim.v2x.messages import Channel, V2xMessages, rsu_broadcast
 from vrusim.sim.vru import motion as _point_mass_step  # noqa: F401  (attaches the built-in model's step)
 from vrusim.sim.vru import shaped_motion as _shaped_step  # noqa: F401  (attaches the cubic and sinusoidal steps)
 from vrusim.sim.vru.registry import vru_motion
@@ -152,6 +152,8 @@ class BatchStepper:
         self._n_steps = params.n_steps
         self.step_index = 0
         self.detected = self.source = None
+        self.messages: V2xMessages | None = None
+        """What V2X delivered at the last `observe` (traces record the messages' ages)."""
         self._front: tuple[np.ndarray, np.ndarray] | None = None
         self._scratch = _scratch(params, self.ego, self.driver, self.door)
         self._low_speed()
@@ -194,7 +196,7 @@ class BatchStepper:
         )
         self.work.record_detection(t, self.active, sensed, messages.received)
         self._front = (front_x, front_y)
-        self.detected, self.source = detected, source
+        self.detected, self.source, self.messages = detected, source, messages
         if self.has_driver:
             update_driver(params.driver, self.driver, t, dt, ego.speed_mps, ego.station_m, params.max_decel_mps2)
         return Observation(

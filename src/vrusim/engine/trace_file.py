@@ -89,6 +89,7 @@ def trace_table(run: BatchRun, variant: int = 0) -> pa.Table:
         columns[f"vru{k}_speed_mps"] = _floats(trace["vru_speed_mps"][:, b, k])
         columns[f"vru{k}_detected"] = pa.array(np.asarray(trace["vru_detected"][:, b, k], dtype=bool))
         columns[f"vru{k}_source"] = pa.array(np.asarray(trace["vru_source"][:, b, k], dtype=np.int8))
+        columns[f"vru{k}_v2x_age_s"] = _floats(trace["vru_v2x_age_s"][:, b, k])
     return pa.table(columns)
 
 

@@ -17,8 +17,8 @@ from vrusim.planners.base import Planner, planner_mode
 
 EGO_TRACE_COLUMNS = 14
 """Per-variant columns of a trace: 9 of the ego state and command, planner mode, clearance, TTC, driver, door."""
-VRU_TRACE_COLUMNS = 5
-"""Per-VRU columns of a trace: x, y, speed, detected, source."""
+VRU_TRACE_COLUMNS = 6
+"""Per-VRU columns of a trace: x, y, speed, detected, source, V2X message age."""
 BYTES_PER_VALUE = 8
 """Bytes of one traced value (float64; the int8 and boolean columns are counted as 8 too: an upper bound)."""
 TRACE_COPIES = 2
@@ -38,6 +38,14 @@ def check_trace_budget(steps: int, variants: int, vru_slots: int) -> None:
     """Refuse a trace whose estimated memory exceeds limit `trace_bytes`, before the run starts."""
     what = f"--trace / trace=True: {steps:,} steps x {variants:,} variants x {vru_slots} VRUs"
     check_limit("trace_bytes", trace_bytes(steps, variants, vru_slots), what)
+
+
+def message_age_s(stepper: BatchStepper) -> np.ndarray:
+    """Age of the V2X message each ego holds about each VRU [B, K] at the last `observe`, s (NaN: none)."""
+    messages = stepper.messages
+    if messages is None:
+        return np.full(stepper.vrus.x_m.shape, np.nan)
+    return np.where(messages.received, messages.age_s, np.nan)
 
 
 class TraceRecorder:
@@ -94,6 +102,7 @@ class TraceRecorder:
         self._put("vru_speed_mps", vrus.speed_mps)
         self._put("vru_detected", stepper.detected)
         self._put("vru_source", stepper.source)
+        self._put("vru_v2x_age_s", message_age_s(stepper))
         self._put("clearance_m", stepper.clearance_m.min(axis=1))
         self._put("ttc_s", stepper.ttc_s.min(axis=1))
         if stepper.has_driver:

@@ -152,13 +152,17 @@ def impact_point(recording: Recording) -> dict[str, float] | None:
 
 def frames(recording: Recording, stride: int) -> dict[str, list]:
     """Every `stride`-th trace sample (and the last) as columns: t_s, ego x/y (m), heading (deg, unwrapped so it
-    interpolates), speed (m/s), planner state (index into the run's `modes`), and per VRU x/y (m) and perception
-    source (bit 1 sensor, bit 2 V2X) as decided at that time."""
+    interpolates), speed (m/s), planner state (index into the run's `modes`), and per VRU x/y (m), perception
+    source (bit 1 sensor, bit 2 V2X) and the age of the V2X message the ego held about it (s, null: none), as
+    decided at that time."""
     trace, n = recording.trace, len(recording.t_s)
     keep = np.unique(np.r_[np.arange(0, n, stride), n - 1])
     decided = np.minimum(keep + 1, n - 1)  # decision columns: row i + 1 holds what was decided at t_s[i]
     heading = np.degrees(np.unwrap(np.arctan2(trace["ego_heading_y"], trace["ego_heading_x"])))
     d = POSITION_DIGITS
+    ages = trace.get("vru_v2x_age_s")
+    if ages is None:  # a trace without the column (an older trace file): no message ages
+        ages = np.full(trace["vru_x_m"].shape, np.nan)
     return {
         "t_s": _rounded(recording.t_s[keep], 6),
         "x_m": _rounded(trace["ego_x_m"][keep], d),
@@ -169,6 +173,7 @@ def frames(recording: Recording, stride: int) -> dict[str, list]:
         "vru_x_m": [_rounded(trace["vru_x_m"][keep, k], d) for k in range(trace["vru_x_m"].shape[1])],
         "vru_y_m": [_rounded(trace["vru_y_m"][keep, k], d) for k in range(trace["vru_y_m"].shape[1])],
         "vru_source": [[int(s) for s in trace["vru_source"][decided, k]] for k in range(trace["vru_source"].shape[1])],
+        "vru_v2x_age_s": [_rounded(ages[decided, k], 2) for k in range(ages.shape[1])],
     }
 
 

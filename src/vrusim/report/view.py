@@ -83,6 +83,14 @@ def read_trace_recording(path: Path, scenario: Scenario) -> Recording:
     trace["vru_source"] = np.stack(
         [_column(table, f"vru{k}_source", path).astype(np.int8) for k in range(n_vrus)], axis=1
     )
+    rows = len(trace["t_s"])
+    trace["vru_v2x_age_s"] = np.stack(  # traces written before the column existed have none: no message age
+        [
+            _column(table, f"vru{k}_v2x_age_s", path) if f"vru{k}_v2x_age_s" in table else np.full(rows, np.nan)
+            for k in range(n_vrus)
+        ],
+        axis=1,
+    )
     t = trace["t_s"]
     source = trace["vru_source"]
     contact = np.flatnonzero(trace["clearance_m"] <= 0.0)

@@ -27,7 +27,7 @@ KEY_EVENT_LABELS: dict[str, str] = {
 }
 """Display label of each key event name."""
 
-DECISION_COLUMNS = ("vru_detected", "vru_source", "planner_mode", "ego_command_mps2")
+DECISION_COLUMNS = ("vru_detected", "vru_source", "vru_v2x_age_s", "planner_mode", "ego_command_mps2")
 """Trace columns decided at the start of a step: row i holds what was decided at time t_s[i - 1] (row 0
 repeats row 1, the decision at t = 0), while every other column holds the state at t_s[i]."""
 

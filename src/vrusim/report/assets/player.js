@@ -89,6 +89,7 @@
       mode: run.modes[f.mode[i]] || "",
       vx: f.vru_x_m.map(mix), vy: f.vru_y_m.map(mix),
       src: f.vru_source.map(function (col) { return col[i]; }),
+      age: (f.vru_v2x_age_s || []).map(function (col) { return col[i]; }),  // V2X message age, s (null: none)
     };
   }
 
@@ -349,13 +350,16 @@
         var v2x = "";
         if (run.v2x && run.first_v2x_message_s !== null && t >= run.first_v2x_message_s) {
           var known = st.src.some(function (s) { return s & data.source_bits.v2x; });
-          v2x = " · V2X: first message " + fmt(run.first_v2x_message_s, 2) + " s, age " +
-                fmt(t - run.first_v2x_message_s, 2) + " s" + (known ? " (VRU known via V2X)" : "");
+          v2x = " · V2X: first message at " + fmt(run.first_v2x_message_s, 2) + " s" +
+                (known ? "" : " (no VRU known via V2X now)");
         } else if (run.v2x) {
           v2x = " · V2X: no message yet";
         }
         var seen = st.src.map(function (s, k) {
-          return "VRU " + (k + 1) + (s & data.source_bits.sensor ? " seen" : "") + (s & data.source_bits.v2x ? " V2X" : "");
+          var age = st.age[k];
+          return "VRU " + (k + 1) + (s & data.source_bits.sensor ? " seen" : "") +
+                 (s & data.source_bits.v2x ? " V2X" + (age === null || age === undefined ? "" :
+                                                       " (message " + fmt(age, 2) + " s old)") : "");
         }).join(", ");
         var impact = run.impact && t >= run.impact.t_s - 1e-9 ? " · impact at " + fmt(run.impact.t_s, 2) + " s" : "";
         var line = statusLines[r];
