@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import importlib
 
 import numpy as np
 import pytest
@@ -125,11 +126,28 @@ def test_varied_pedestrian_crossings_identical(paper_pedestrian_dict, speeds, wa
     assert_identical(compiled, per_step)
 
 
-def test_more_transitions_than_recorded_falls_back(paper_batch, monkeypatch):
-    """A variant that changes mode more often than the compiled run has room for is rerun per step."""
+def test_more_transitions_than_room_run_again_compiled_with_room(paper_batch, monkeypatch):
+    """A variant that changes mode more often than the first compiled run has room for: the run is repeated,
+    compiled, with room for the most any variant made (not per step)."""
     reference = simulate(paper_batch, compiled=False)
-    assert max(np.bincount([row[1] for row in reference.metrics.transitions])) > 1
+    most = max(np.bincount([row[1] for row in reference.metrics.transitions]))
+    assert most > 1
     monkeypatch.setattr(compiled_run, "TRANSITIONS_PER_VARIANT", 1)
+    rooms: list[int] = []
+    run_once = compiled_run._run_once
+    monkeypatch.setattr(compiled_run, "_run_once", lambda *args: rooms.append(args[3]) or run_once(*args))
+    monkeypatch.setattr(importlib.import_module("vrusim.engine.simulate"), "BatchStepper", None)  # no per-step run
+    assert_identical(simulate(paper_batch), reference)
+    assert rooms == [1, most]
+
+
+def test_transitions_beyond_the_buffer_limit_run_per_step(paper_batch, monkeypatch):
+    reference = simulate(paper_batch, compiled=False)
+    monkeypatch.setattr(compiled_run, "TRANSITIONS_PER_VARIANT", 1)
+    monkeypatch.setattr(compiled_run, "TRANSITION_BUFFER_BYTES", 1)
+    fsm = make_planner("fsm")
+    fsm.reset(paper_batch)
+    assert compiled_run.run_compiled(paper_batch, fsm, len(fsm.mode_names)) is None
     assert_identical(simulate(paper_batch), reference)
 
 

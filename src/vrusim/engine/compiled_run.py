@@ -61,9 +61,14 @@ COMPILED_PLANNERS: dict[type, str] = {
     PredictivePlanner: "predictive",
 }
 """Planner classes with a compiled step (exactly these classes: a subclass may change `act`)."""
-TRANSITIONS_PER_VARIANT = 32
-"""Mode transitions each variant can record in one compiled run; a run that needs more is rerun with more room."""
-_OK, _BAD_COMMAND, _FULL = 0, 1, 2
+TRANSITIONS_PER_VARIANT = 64
+"""Mode transitions each variant has room for in a first compiled run; a run in which some variant made more
+(an AEB chattering between warning and cruise makes 57 in the engine benchmark) counts them all and is run again
+with room for the most any variant made."""
+TRANSITION_BUFFER_BYTES = 256 * 2**20
+"""Largest transition buffer a rerun may take (10 bytes a transition and variant); beyond it the batch runs per
+step, which records transitions as they happen."""
+_OK, _BAD_COMMAND = 0, 1
 
 
 def compiled_support(batch: BatchParams, planner: object, channel: object, trace: bool) -> str | None:
@@ -146,19 +151,17 @@ def _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics):  # pragm
 
 @njit(cache=True, inline="always")
 def _mode_changed(b, step, old, new, metrics):  # pragma: no cover (compiled)
-    """Record a planner mode transition of variant b at step `step` (`RunMetrics.record_modes`); False when
-    the variant's transition buffer is full."""
+    """Record a planner mode transition of variant b at step `step` (`RunMetrics.record_modes`); one beyond the
+    variant's room is counted, not stored (the run is then repeated with more room)."""
     first_mode, steps, olds, news, counts = metrics[4], metrics[5], metrics[6], metrics[7], metrics[8]
     if old == new:
-        return True
+        return
     i = counts[b]
-    if i >= steps.shape[1]:
-        return False
-    steps[b, i], olds[b, i], news[b, i] = step, old, new
+    if i < steps.shape[1]:
+        steps[b, i], olds[b, i], news[b, i] = step, old, new
     counts[b] = i + 1
     if np.isnan(first_mode[b, new]):
         first_mode[b, new] = step * metrics[10]
-    return True
 
 
 @njit(cache=True, inline="always")
@@ -244,9 +247,7 @@ def _run_fsm(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan)
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            if not _mode_changed(b, step, old, mode[b], metrics):
-                _finish(b, step, _FULL, scratch, metrics)
-                break
+            _mode_changed(b, step, old, mode[b], metrics)
             if not _advance(b, step, world, vrus, ego, scratch, metrics):
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -281,9 +282,7 @@ def _run_aeb(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan)
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            if not _mode_changed(b, step, old, mode[b], metrics):
-                _finish(b, step, _FULL, scratch, metrics)
-                break
+            _mode_changed(b, step, old, mode[b], metrics)
             if mode[b] >= aeb.WARNING and np.isnan(values[FIRST_WARNING, b]):  # RunMetrics.record_warning
                 values[FIRST_WARNING, b] = step * dt
                 values[WARNING_TTC, b] = values[PREV_TTC, b]
@@ -318,9 +317,7 @@ def _run_predictive(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            if not _mode_changed(b, step, old, mode[b], metrics):
-                _finish(b, step, _FULL, scratch, metrics)
-                break
+            _mode_changed(b, step, old, mode[b], metrics)
             if not _advance(b, step, world, vrus, ego, scratch, metrics):
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -402,11 +399,31 @@ def _v2x_tuple(batch: BatchParams) -> tuple:
     )  # fmt: skip
 
 
-def run_compiled(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics) -> int | None:
-    """Run the batch with the planner's compiled step (the planner already reset), filling `metrics`; return
-    the number of steps the batch took, or None when a variant recorded more transitions than there was room
-    for (rerun it with the per-step path). A non-finite command is reported like the per-step path does.
+def run_compiled(batch: BatchParams, planner: PlannerBase, mode_count: int) -> tuple[RunMetrics, int] | None:
+    """Run the batch with the planner's compiled step (the planner already reset): its metrics (`mode_count`
+    planner modes) and the number of steps the batch took. A run in which some variant changed mode more often
+    than `TRANSITIONS_PER_VARIANT` is run again with room for all of them; None (run it per step) when that room
+    would exceed `TRANSITION_BUFFER_BYTES`. A non-finite command is reported like the per-step path does.
     """
+    capacity = TRANSITIONS_PER_VARIANT
+    while True:
+        metrics = RunMetrics(batch, mode_count)
+        steps, needed = _run_once(batch, planner, metrics, capacity)
+        if needed <= capacity:
+            return metrics, steps
+        if needed * batch.size * TRANSITION_BYTES > TRANSITION_BUFFER_BYTES:
+            return None
+        planner.reset(batch)
+        capacity = needed
+
+
+TRANSITION_BYTES = 10
+"""Bytes of one recorded transition: step (int64), old and new mode (int8)."""
+
+
+def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, capacity: int) -> tuple[int, int]:
+    """One compiled run with room for `capacity` transitions a variant, filling `metrics`: (steps the batch took,
+    the most transitions a variant made); the transitions are in `metrics` only when they all fitted."""
     name = COMPILED_PLANNERS[type(planner)]
     size, slots = batch.size, batch.vru_slots
     shape = (size, slots)
@@ -437,7 +454,6 @@ def run_compiled(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics) 
         np.zeros((7, *shape)), np.full((3, *shape), np.inf), np.full(shape, np.inf), np.zeros(size, dtype=bool),
         np.zeros(size), np.zeros(size), np.zeros(shape, dtype=bool), np.ones(size, dtype=bool), np.zeros(shape),
     )  # fmt: skip
-    capacity = TRANSITIONS_PER_VARIANT
     steps_run, status = np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int8)
     metrics_tuple = (
         metrics.values, metrics.values[SURROGATE_START:], metrics._per_vru, metrics.collided, metrics.first_mode_s,
@@ -447,12 +463,12 @@ def run_compiled(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics) 
     plan = _planner_state(name, planner, batch)
     arguments = (world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_tuple, scratch, metrics_tuple, plan)
     _over_threads(_KERNELS[name], size, arguments)
-    if (status == _FULL).any():
-        return None
     if (status == _BAD_COMMAND).any():
         checked_planner_command(scratch[16], size, type(planner).__name__)  # raises the per-step path's error
-    _collect_transitions(metrics, batch.dt_s, metrics_tuple[5:9])
-    return int(steps_run.max()) if size else 0
+    needed = int(metrics_tuple[8].max()) if size else 0
+    if needed <= capacity:
+        _collect_transitions(metrics, batch.dt_s, metrics_tuple[5:9])
+    return (int(steps_run.max()) if size else 0), needed
 
 
 CHUNKS_PER_THREAD = 8

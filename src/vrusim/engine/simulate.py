@@ -83,11 +83,10 @@ def simulate(
     if compiled is not False:
         why_not = compiled_support(batch, planner, channel, trace)
         if why_not is None:
-            metrics = RunMetrics(batch, len(mode_names))
-            steps = run_compiled(batch, planner, metrics)
-            if steps is not None:
-                return BatchRun(batch, metrics, mode_names, None, steps)
-            planner.reset(batch)  # a variant changed mode more often than the compiled step records: per step
+            done = run_compiled(batch, planner, len(mode_names))
+            if done is not None:
+                return BatchRun(batch, done[0], mode_names, None, done[1])
+            planner.reset(batch)  # a variant changes mode too often to buffer its transitions: per step
         elif compiled:
             raise ValueError(f"simulate(compiled=True): no compiled step for this run ({why_not})")
     stepper = BatchStepper(batch, len(mode_names), channel)
