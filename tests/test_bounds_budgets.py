@@ -115,7 +115,8 @@ def test_compare_with_1e11_seeds_is_refused_before_running(tmp_path):
 def test_a_trace_at_the_most_steps_is_refused_before_the_run(tmp_path):
     path = _write(tmp_path, _scenario({"sim": {"dt_s": 0.00036, "duration_s": 3600.0}}))
     result = invoke("run", path, "--trace", tmp_path / "trace.csv")
-    assert_user_error(result, "--trace / trace=True: 10,000,000 steps", "3,200,000,000 bytes", "TRACE_BYTES raises")
+    # 2 copies x 10^7 steps x (t + 14 ego columns + 6 VRU columns) x 8 bytes
+    assert_user_error(result, "--trace / trace=True: 10,000,000 steps", "3,360,000,000 bytes", "TRACE_BYTES raises")
     assert not (tmp_path / "trace.csv").exists()
 
 
