@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated
 
@@ -115,7 +116,7 @@ def run_command(
             from vrusim.sources import scenario_file
 
             file = None if str(source).lower().endswith(".xosc") else scenario_file(source)
-            build = lambda: scenario_report(scenario, file, source, switch_value(v2x))  # noqa: E731
+            build = partial(scenario_report, scenario, file, source, switch_value(v2x))
             write_report_option(report, build, quiet=as_json)
     if as_json:
         print_json(row)

@@ -69,14 +69,15 @@ def view_command(
 ) -> None:
     """Write a scene-player page of one run (or V2X off and on compared) and open it in the default browser."""
     with user_errors():
+        from vrusim.engine.trace_file import TRACE_SUFFIXES
         from vrusim.io.paths import check_output_file
         from vrusim.report import check_output, write_report
-        from vrusim.report.view import TRACE_SOURCE_SUFFIXES, read_trace_recording, view_report
+        from vrusim.report.view import read_trace_recording, view_report
         from vrusim.sources import apply_planner_and_seed, scenario_of
 
         chosen = one_planner(planner, "view")
         settings = _v2x_settings(v2x)
-        saved = Path(source).suffix.lower() in TRACE_SOURCE_SUFFIXES
+        saved = Path(source).suffix.lower() in TRACE_SUFFIXES
         if saved:
             if scenario is None:
                 raise UserInputError("--scenario: a saved trace needs the scenario it ran, to draw the road and actors")

@@ -2,9 +2,10 @@
 
 Columns: t_s, the ego state and command, the planner mode (by name), the closest clearance and the smallest
 time-to-collision (null when infinite), then per VRU k: vru{k}_x_m, vru{k}_y_m, vru{k}_speed_mps,
-vru{k}_detected and vru{k}_source (bitmask: 1 sensor, 2 V2X). Absent or infinite values are written as
-null (an empty CSV field), never NaN. Files are written atomically: to a temporary file in the same folder,
-then renamed over the target, so a failure never leaves a half-written file behind.
+vru{k}_detected, vru{k}_source (bitmask: 1 sensor, 2 V2X) and vru{k}_v2x_age_s (age of the V2X message the ego
+holds about the VRU, s; null when none). Absent or infinite values are written as null (an empty CSV field), never
+NaN. Files are written atomically: to a temporary file in the same folder, then renamed over the target, so a
+failure never leaves a half-written file behind. `read_trace` reads one back as trace arrays.
 """
 
 from __future__ import annotations
@@ -106,3 +107,59 @@ def write_trace(run: BatchRun, path: str | Path, variant: int = 0) -> int:
     else:
         write_atomically(path, lambda temp: pq.write_table(table, temp), "trace")
     return table.num_rows
+
+
+def _read_list(table: dict[str, list], name: str, path: Path) -> list:
+    if name not in table:
+        raise UserInputError(f"{path} has no column {name!r}; expected a trace written by `vrusim run --trace`")
+    return table[name]
+
+
+def _read_column(table: dict[str, list], name: str, path: Path) -> np.ndarray:
+    """A column as floats (null: NaN)."""
+    return np.array([np.nan if v is None else v for v in _read_list(table, name, path)], dtype=float)
+
+
+def read_trace(path: Path, vru_count: int) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
+    """A trace file of `write_trace` read back: the trace arrays of its one variant as the engine records them
+    ([T], per VRU [T, K]; null is NaN, a null TTC infinite) and the planner's mode names in order of appearance.
+    A file written before vru{k}_v2x_age_s existed gets NaN there. UserInputError naming the file when it cannot
+    be read, lacks a column, holds no rows or has no columns for `vru_count` VRUs.
+    """
+    try:
+        data = pq.read_table(path) if trace_format(path) == "parquet" else pa_csv.read_csv(path)
+    except (OSError, pa.ArrowException) as error:
+        raise UserInputError(f"cannot read trace {path} ({error})") from None
+    table = data.to_pydict()
+    if any(f"vru{k}_x_m" not in table for k in range(vru_count)):
+        raise UserInputError(f"{path} has no columns of {vru_count} VRUs (vru0_x_m ... vru{vru_count - 1}_x_m)")
+    if not table.get("t_s"):
+        raise UserInputError(f"{path} holds no trace rows")
+    rows = len(table["t_s"])
+    heading = np.radians(_read_column(table, "ego_heading_deg", path))
+    names = tuple(dict.fromkeys(str(m) for m in table.get("planner_mode", [])))
+    trace = {
+        "t_s": _read_column(table, "t_s", path),
+        "ego_heading_x": np.cos(heading),
+        "ego_heading_y": np.sin(heading),
+        "planner_mode": np.array([names.index(str(m)) for m in _read_list(table, "planner_mode", path)], np.int8),
+    }
+    for name in (*EGO_COLUMNS, "clearance_m"):
+        trace[name] = _read_column(table, name, path)
+    ttc = _read_column(table, "ttc_s", path)
+    trace["ttc_s"] = np.where(np.isnan(ttc), np.inf, ttc)
+
+    def per_vru(column: str, absent: float | None = None) -> np.ndarray:
+        values = [
+            np.full(rows, absent) if absent is not None and f"vru{k}_{column}" not in table
+            else _read_column(table, f"vru{k}_{column}", path)
+            for k in range(vru_count)
+        ]  # fmt: skip
+        return np.stack(values, axis=1) if values else np.empty((rows, 0))
+
+    trace["vru_x_m"], trace["vru_y_m"] = per_vru("x_m"), per_vru("y_m")
+    trace["vru_speed_mps"] = per_vru("speed_mps")
+    trace["vru_detected"] = per_vru("detected") > 0.5
+    trace["vru_source"] = per_vru("source").astype(np.int8)
+    trace["vru_v2x_age_s"] = per_vru("v2x_age_s", absent=np.nan)
+    return trace, names

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from vrusim.engine.trace_file import read_trace
 from vrusim.errors import UserInputError
 from vrusim.metrics.outcome import outcome_of
 from vrusim.report.compare import comparison_charts
@@ -19,9 +20,6 @@ from vrusim.scenario.schema import Scenario
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X
 from vrusim.viz.recording import Recording, key_events
 from vrusim.viz.style import recording_labels
-
-TRACE_SOURCE_SUFFIXES = (".csv", ".parquet")
-"""A SOURCE ending in one of these is a saved trace (`vrusim run --trace`)."""
 
 
 def view_report(recordings: Sequence[Recording], labels: Sequence[str] | None = None, note: str = "") -> Report:
@@ -43,61 +41,21 @@ def view_report(recordings: Sequence[Recording], labels: Sequence[str] | None = 
     return Report("view", f"vrusim view: {name}", f"{name}: {lead}.", sections, {"labels": labels})
 
 
-def _column(table: dict[str, list], name: str, path: Path) -> np.ndarray:
-    if name not in table:
-        raise UserInputError(f"SOURCE: {path} has no column {name!r}; expected a trace written by `vrusim run --trace`")
-    return np.array([np.nan if v is None else v for v in table[name]], dtype=float)
-
-
 def read_trace_recording(path: Path, scenario: Scenario) -> Recording:
-    """A Recording from a trace file of `vrusim run --trace` (.csv or .parquet) and the scenario it ran (for the
-    road, obstacles, VRU footprints and paths, RSU); key events from the trace (impact: clearance ≤ 0)."""
-    import pyarrow as pa
-    import pyarrow.csv as pa_csv
-    import pyarrow.parquet as pq
-
+    """A Recording from a trace file of `vrusim run --trace` (.csv or .parquet; `engine.trace_file.read_trace`) and
+    the scenario it ran (for the road, obstacles, VRU footprints and paths, RSU); key events from the trace
+    (impact: clearance ≤ 0)."""
     try:
-        data = pq.read_table(path) if path.suffix.lower() == ".parquet" else pa_csv.read_csv(path)
-    except (OSError, pa.ArrowException) as error:
-        raise UserInputError(f"SOURCE: cannot read trace {path} ({error})") from None
-    table = data.to_pydict()
-    n_vrus = len(scenario.vrus)
-    if any(f"vru{k}_x_m" not in table for k in range(n_vrus)):
-        raise UserInputError(f"--scenario: its {n_vrus} VRUs do not match the trace {path} (no vru{{k}}_x_m columns)")
-    if not table.get("t_s"):
-        raise UserInputError(f"SOURCE: {path} holds no trace rows")
-    heading = np.radians(_column(table, "ego_heading_deg", path))
-    names = list(dict.fromkeys(str(m) for m in table.get("planner_mode", [])))
-    trace: dict[str, np.ndarray] = {
-        "t_s": _column(table, "t_s", path),
-        "ego_heading_x": np.cos(heading),
-        "ego_heading_y": np.sin(heading),
-        "planner_mode": np.array([names.index(str(m)) for m in table["planner_mode"]], dtype=np.int8),
-    }
-    for name in ("ego_x_m", "ego_y_m", "ego_speed_mps", "ego_accel_mps2", "ego_command_mps2", "clearance_m"):
-        trace[name] = _column(table, name, path)
-    ttc = _column(table, "ttc_s", path)
-    trace["ttc_s"] = np.where(np.isnan(ttc), np.inf, ttc)
-    for column, field in (("x_m", "vru_x_m"), ("y_m", "vru_y_m"), ("speed_mps", "vru_speed_mps")):
-        trace[field] = np.stack([_column(table, f"vru{k}_{column}", path) for k in range(n_vrus)], axis=1)
-    trace["vru_source"] = np.stack(
-        [_column(table, f"vru{k}_source", path).astype(np.int8) for k in range(n_vrus)], axis=1
-    )
-    rows = len(trace["t_s"])
-    trace["vru_v2x_age_s"] = np.stack(  # traces written before the column existed have none: no message age
-        [
-            _column(table, f"vru{k}_v2x_age_s", path) if f"vru{k}_v2x_age_s" in table else np.full(rows, np.nan)
-            for k in range(n_vrus)
-        ],
-        axis=1,
-    )
+        trace, names = read_trace(path, len(scenario.vrus))
+    except UserInputError as error:
+        raise UserInputError(f"SOURCE: {error}") from None
     t = trace["t_s"]
     source = trace["vru_source"]
     contact = np.flatnonzero(trace["clearance_m"] <= 0.0)
 
     def first(mask: np.ndarray) -> float | None:
-        rows = np.flatnonzero(mask.any(axis=1)) if mask.ndim == 2 else np.flatnonzero(mask)
-        return float(t[rows[0]]) if rows.size else None
+        hits = np.flatnonzero(mask.any(axis=1)) if mask.ndim == 2 else np.flatnonzero(mask)
+        return float(t[hits[0]]) if hits.size else None
 
     summary = {
         "scenario": scenario.name,
@@ -109,4 +67,4 @@ def read_trace_recording(path: Path, scenario: Scenario) -> Recording:
         "contact_time_s": float(t[contact[0]]) if contact.size else None,
         "end_time_s": float(t[-1]),
     }
-    return Recording(scenario, trace, summary, tuple(names), key_events(summary, trace))
+    return Recording(scenario, trace, summary, names, key_events(summary, trace))
