@@ -126,18 +126,9 @@ def _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics):  # pragm
         b, v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, centre_x, centre_y, kin[0], kin[1], sent, covered, link
     )
     if realistic_channel:
-        (
-            seed_c, mode, loss_model, cfg, loss_params, outage_start, outage_end, outage_count, last_gen, due,
-            force, ref, was_covered, link_state, buf_gen, buf_due, buf_kin, buf_head, buf_count, message_step,
-            track_kin, generated, delivered, external_lost,
-        ) = v2x[7:]  # fmt: skip
+        settings, state = v2x[7:]
         n = int(np.floor(t / dt + 0.5))  # round(t / dt), as the channel object computes it
-        channel_variant(
-            b, n, dt, seed_c, mode, loss_model, cfg, loss_params, outage_start, outage_end, outage_count, covered,
-            sent, kin, link, last_gen, due, force, ref, was_covered, link_state, buf_gen, buf_due, buf_kin,
-            buf_head, buf_count, message_step, track_kin, generated, delivered, external_lost, received, msg_kin,
-            msg_age,
-        )  # fmt: skip
+        channel_variant(b, n, dt, settings, state, covered, sent, kin, link, received, msg_kin, msg_age)
         got, got_kin, got_age = received, msg_kin, msg_age
     else:
         got, got_kin, got_age = sent, kin, zeros
@@ -391,11 +382,17 @@ def _v2x_tuple(batch: BatchParams) -> tuple:
     realistic = isinstance(make_channel(batch), RealisticChannel)
     return (
         _c(batch.v2x_enabled), _c(batch.rsu_x_m), _c(batch.rsu_y_m), _c(batch.comm_range_m),
-        _c(batch.coverage_range_m), _c(batch.vru_valid), realistic, channel.seed, channel.mode, channel.loss_model,
-        _c(channel.cfg), _c(channel.loss_params), _c(channel.outage_start), _c(channel.outage_end),
-        channel.outage_count, channel.last_gen, channel.due, channel.force, channel.ref, channel.was_covered,
-        channel.link_state, channel.buf_gen, channel.buf_due, channel.buf_kin, channel.buf_head, channel.buf_count,
-        channel.message_step, channel.track_kin, channel.generated, channel.delivered, np.zeros((1, 1), dtype=bool),
+        _c(batch.coverage_range_m), _c(batch.vru_valid), realistic,
+        (
+            channel.seed, channel.mode, channel.loss_model, _c(channel.cfg), _c(channel.loss_params),
+            _c(channel.outage_start), _c(channel.outage_end), channel.outage_count,
+        ),
+        (
+            channel.last_gen, channel.due, channel.force, channel.ref, channel.was_covered, channel.link_state,
+            channel.buf_gen, channel.buf_due, channel.buf_kin, channel.buf_head, channel.buf_count,
+            channel.message_step, channel.track_kin, channel.generated, channel.delivered,
+            np.zeros((1, 1), dtype=bool),
+        ),
     )  # fmt: skip
 
 
