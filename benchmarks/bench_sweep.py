@@ -4,7 +4,7 @@ pedestrian Monte Carlo of `sweeps/pedestrian_monte_carlo.yaml` (V2X on with unce
 Run: python benchmarks/bench_sweep.py [--variants 10000] [--batch-sizes 250 1000 2500 5000] [--full] [--json]
      python benchmarks/bench_sweep.py --goal            # issue 20's check: the 100,000-variant Monte Carlo
 
-Each configuration runs `python -m vrusim sweep SPEC --workers W --json` in its own process (the spec with
+Each configuration runs `python -m vrusim sweep SPEC [--workers W] --json` in its own process (the spec with
 `samples` and `batch_size` set, its base the paper pedestrian case). Two rates: "wall", variants / wall time of
 the whole command from its start to its exit (Python start-up, imports, spawning the workers, planning,
 simulation, storage: what a user waits for), and "sweep", the rate the command reports for its sweep alone.
@@ -12,10 +12,11 @@ Peak memory is the largest sum of the resident sets of the command and its worke
 (an upper bound: pages of shared libraries count once per process). A warm-up sweep first fills the
 compiled-kernel cache, so no row pays for compiling.
 
-Tables: rate against batch size (2 workers); against workers (batch 2,500, or a quarter of the variants if
+Tables: rate against batch size (the command's default workers: for this spec, the calling process on every
+core); against workers (batch 2,500, or a quarter of the variants if
 fewer: 1 process on 1 core, 1 process with all cores as Numba threads, 2 processes; scaling efficiency =
 rate / (workers × 1-core rate)); with `--full`, peak memory for 10^4 and 10^5 variants. `--goal` runs only the
-issue's check: the spec as shipped (100,000 variants, batch 2,500) on 2 workers, against the goals
+issue's check: the spec as shipped (100,000 variants, batch 2,500) with the default workers, against the goals
 ≥ 20,000 variants/s wall with process start and peak ≤ 600 MB (`--goal N`: N variants instead, e.g. to try the
 script; `--repeats R`: R runs).
 """
@@ -55,8 +56,8 @@ def _tree_rss(process: psutil.Process) -> int:
 
 
 def run(variants: int, batch_size: int, workers: int, threads: int | None = None) -> dict:
-    """One sweep in a fresh process: wall time from its start to its exit, reported rate, peak memory of the
-    process tree."""
+    """One sweep in a fresh process (`workers` 0: the command's default): wall time from its start to its exit,
+    reported rate, peak memory of the process tree."""
     data = yaml.safe_load(SPEC.read_text())
     data.update(samples=variants, batch_size=batch_size, base=str(ROOT / "scenarios/paper/pedestrian_crossing.yaml"))
     with tempfile.TemporaryDirectory() as folder:
@@ -67,7 +68,7 @@ def run(variants: int, batch_size: int, workers: int, threads: int | None = None
         if threads is not None:
             env["NUMBA_NUM_THREADS"] = str(threads)
         command = [sys.executable, "-m", "vrusim", "sweep", str(spec), "--out", f"{folder}/out"]
-        command += ["--workers", str(workers), "--json"]
+        command += (["--workers", str(workers)] if workers else []) + ["--json"]
         started = time.perf_counter()
         child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
         peak = 0
@@ -110,7 +111,7 @@ def table(rows: list[dict]) -> str:
         [
             f"{r['variants']:,}",
             f"{r['batch_size']:,}",
-            r["workers"],
+            r["workers"] or "default",
             r["threads"] or "all",
             f"{r['wall_s']:.2f}",
             f"{r['sweep_s']:.2f}",
@@ -150,18 +151,20 @@ def main() -> None:
     sections: list[tuple[str, list[dict]]] = []
     if args.goal is not None:
         spec = yaml.safe_load(SPEC.read_text())
-        rows = [run(args.goal, spec["batch_size"], 2) for _ in range(args.repeats)]
-        sections.append((f"Issue 20's check: {args.goal:,}-variant Monte Carlo, 2 workers, wall with start", rows))
+        rows = [run(args.goal, spec["batch_size"], 0) for _ in range(args.repeats)]
+        sections.append(
+            (f"Issue 20's check: {args.goal:,}-variant Monte Carlo, default workers, wall with start", rows)
+        )
     else:
         n = args.variants
-        batches = [run(n, size, 2) for size in args.batch_sizes]
-        sections.append((f"Rate against batch size ({n:,} variants, 2 workers)", batches))
+        batches = [run(n, size, 0) for size in args.batch_sizes]
+        sections.append((f"Rate against batch size ({n:,} variants, default workers)", batches))
         size = min(2500, max(1, n // 4))  # at least 4 batches, so that 2 workers share them
         scaling = [run(n, size, 1, threads=1), run(n, size, 1), run(n, size, 2)]
         sections.append((f"Rate against workers ({n:,} variants, batch {size:,})", scaling))
         if args.full:
-            sections.append(("Peak memory against sweep size (batch 2,500, 2 workers)",
-                             [run(10_000, 2500, 2), run(100_000, 2500, 2)]))  # fmt: skip
+            sections.append(("Peak memory against sweep size (batch 2,500, default workers)",
+                             [run(10_000, 2500, 0), run(100_000, 2500, 0)]))  # fmt: skip
     if args.json:
         print(json.dumps({"machine": info, "tables": dict(sections)}, indent=2))
         return

@@ -23,7 +23,9 @@ from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.grid import run_tests, select
 from vrusim.sweep.plan import VariantBuilder, make_plan
-from vrusim.sweep.runner import run_sweep
+from vrusim.sweep.design import make_design
+from vrusim.sweep.execute import cpu_count
+from vrusim.sweep.runner import local_workers, preflight, run_sweep
 from vrusim.sweep.spec import load_spec
 from vrusim.sweep.store import SweepStore, chunk_name
 
@@ -347,3 +349,23 @@ def test_dry_run_plans_and_checks_without_writing(tmp_path):
     assert shown is not None and 0.7 < float(shown.group(1)) < 0.85, result.stdout
     bad = write_spec(tmp_path, parameters={"vrus[0].top_speed_mps": {"uniform": [-1.0, 2.0]}})
     assert_user_error(invoke("sweep", bad, "--dry-run"), "vrus[0].top_speed_mps")
+
+
+def test_automatic_workers_run_compiled_batches_in_this_process(tmp_path):
+    """0 workers: a sweep whose variants all run the compiled step stays in this process (threads on every
+    core); one that needs the per-step path (here a VRU motion model without a compiled step) gets a process per
+    core; a number given is kept."""
+    plan = make_plan(load_spec(write_spec(tmp_path)))
+    compiled = preflight(plan, make_design(plan))
+    assert compiled.compiled and compiled.checked > 0
+    cubic = {**SPEC["set"], "vrus[0].motion": "cubic"}
+    plan = make_plan(load_spec(write_spec(tmp_path, set=cubic)))
+    assert not preflight(plan, make_design(plan)).compiled
+    assert local_workers(0, compiled=True) == 1
+    assert local_workers(0, compiled=False) == cpu_count()
+    assert local_workers(3, compiled=True) == local_workers(3, compiled=False) == 3
+
+
+def test_automatic_workers_give_the_same_results(reference, tmp_path):
+    run_sweep(load_spec(write_spec(tmp_path)), tmp_path / "out", workers=0)
+    assert results(tmp_path / "out").equals(reference)

@@ -59,7 +59,14 @@ def sweep_command(
     ] = Path("sweep-results"),
     force: ForceOption = False,
     seed: Annotated[int | None, seed_option("Master seed of the draws. Default: the spec's.")] = None,
-    workers: Annotated[int, typer.Option("--workers", help="Local worker processes (default: all cores).")] = 0,
+    workers: Annotated[
+        int,
+        typer.Option(
+            "--workers",
+            help="Local worker processes. Default: this process on every core when the built-in planners' compiled "
+            "step runs every variant, else one process per core.",
+        ),
+    ] = 0,
     scheduler: Annotated[
         str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT", help="Run on this Dask cluster.")
     ] = None,
@@ -76,7 +83,7 @@ def sweep_command(
     as_json: JsonOption = False,
 ) -> None:
     """Run every variant of a sweep spec; results go to OUT/chunks/*.parquet, batch by batch (resumable)."""
-    from vrusim.sweep.execute import SweepAbortedError, cpu_count
+    from vrusim.sweep.execute import SweepAbortedError
     from vrusim.sweep.runner import dry_run as plan_only
     from vrusim.sweep.runner import run_sweep
 
@@ -85,7 +92,7 @@ def sweep_command(
         _check_modes(force, resume, dry_run, seed)
         spec = _spec(spec_file, seed)
         if workers < 0:
-            raise UserInputError("--workers: expected a positive number of worker processes (0: all cores)")
+            raise UserInputError("--workers: expected a positive number of worker processes (0: automatic)")
         if dry_run:
             if spec is None:
                 raise UserInputError("SPEC: --dry-run needs a sweep spec file")
@@ -114,7 +121,7 @@ def sweep_command(
             bar.update(task_id, completed=done, total=total)
 
         try:
-            result = run_sweep(spec, out, workers or cpu_count(), scheduler, batch_size, resume, progress, force)
+            result = run_sweep(spec, out, workers, scheduler, batch_size, resume, progress, force)
         except KeyboardInterrupt:
             _stop(bar)
             typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from vrusim.engine.compiled_run import compiled_support
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.planners.registry import make_planner, plugin_source
@@ -21,7 +22,7 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
-from vrusim.sweep.execute import connect_dask, run_dask, run_processes, run_serial
+from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_processes, run_serial
 from vrusim.sweep.plan import PlannedSweep, SweepPlan, VariantBuilder, check_budgets, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
@@ -109,16 +110,39 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
     return plan
 
 
-def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> int:
-    """Build and check a sample of variants (extremes, every discrete value, the first batch); return how many."""
+@dataclass(frozen=True)
+class Preflight:
+    """What checking a sample of a sweep's variants found."""
+
+    checked: int
+    """Variants built and checked."""
+    compiled: bool
+    """Every sampled variant runs the engine's compiled step (`engine.compiled_run`), which spreads a batch over
+    the cores as threads of one process."""
+
+
+def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> Preflight:
+    """Build and check a sample of variants (extremes, every discrete value, the first batch)."""
     rows = preflight_rows(design, plan)
     scenarios = VariantBuilder(plan).build({k: v[rows].tolist() for k, v in design.items()}, range(len(rows)))
     by_planner: dict[str, list] = {}
     for scenario in scenarios:
         by_planner.setdefault(scenario.planner.name, []).append(scenario)
+    compiled = True
     for name, group in by_planner.items():
-        make_planner(name).reset(pack(group))  # planner.params validated by the planner
-    return len(rows)
+        batch, planner = pack(group), make_planner(name)
+        planner.reset(batch)  # planner.params validated by the planner
+        compiled = compiled and compiled_support(batch, planner, None, trace=False) is None
+    return Preflight(len(rows), compiled)
+
+
+def local_workers(requested: int, compiled: bool) -> int:
+    """Local worker processes for a sweep: `requested`, or with 0 one per core, except that batches which all run
+    the compiled step run in this process on every core (threads: the same speed without a process per core
+    to start and hold in memory)."""
+    if requested > 0:
+        return requested
+    return 1 if compiled else cpu_count()
 
 
 Source = SweepSpec | PlannedSweep
@@ -151,7 +175,7 @@ def dry_run(spec: Source, batch_size: int | None = None) -> dict[str, Any]:
     """Plan, draw and check a sweep without running it: counts and each parameter's drawn range (JSON-ready)."""
     plan = plan_of(spec, batch_size)
     design = make_design(plan)
-    checked = preflight(plan, design)
+    checked = preflight(plan, design).checked
     parameters = []
     for p in plan.parameters:
         column = design[p.path]
@@ -207,13 +231,15 @@ def _open(
     batch_size: int | None,
     warnings: list[str],
     replace: bool = False,
-) -> tuple[SweepPlan, dict[str, np.ndarray]]:
+) -> tuple[SweepPlan, dict[str, np.ndarray], Preflight | None]:
+    """The plan and design of a new sweep (checked, its folder created: with the preflight's findings) or of the
+    one being resumed (compared with what the folder holds)."""
     if not resume:
         if spec is None:
             raise UserInputError("SPEC: a sweep spec file is needed (only --resume can do without)")
         plan = plan_of(spec, batch_size)
         design = make_design(plan)
-        preflight(plan, design)
+        checked = preflight(plan, design)
         manifest = {
             "name": plan.name,
             "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
@@ -231,7 +257,7 @@ def _open(
             "code": {**code_version(), "planner_plugins": plugin_sources(plan)},
         }
         store.create(manifest, chunk_table(design, design_types(design), {}), replace)
-        return plan, design
+        return plan, design, checked
     manifest = store.manifest()
     plan = plan_from_manifest(manifest)
     if batch_size is not None and batch_size != plan.batch_size:
@@ -253,7 +279,7 @@ def _open(
                 f"planner {info['planner']!r}: its module {info['module']} ({info['file']}) changed since the sweep "
                 "started; resumed batches may differ from the earlier ones"
             )
-    return plan, design
+    return plan, design, None
 
 
 def run_sweep(
@@ -269,9 +295,10 @@ def run_sweep(
     """Run (or resume) a sweep into `out` (`replace`: a previous sweep's results there are deleted once the new
     sweep is planned and checked); returns counts and timing. Bad input raises UserInputError, before anything is
     written when it can be found then (the folder, the spec, the scheduler); a new sweep that fails before its
-    first batch is stored leaves nothing behind (docs/errors.md)."""
-    if workers < 1:
-        raise UserInputError("--workers: expected a positive number of worker processes")
+    first batch is stored leaves nothing behind (docs/errors.md). `workers`: local processes; 0 chooses
+    (`local_workers`)."""
+    if workers < 0:
+        raise UserInputError("--workers: expected a positive number of worker processes (0: automatic)")
     started = time.perf_counter()
     store = SweepStore(check_name(out, "--out"))
     if not resume:
@@ -296,7 +323,9 @@ def _run(
     started: float,
 ) -> SweepResult:
     warnings: list[str] = []
-    plan, design = _open(spec, store, resume, batch_size, warnings, replace)
+    plan, design, checked = _open(spec, store, resume, batch_size, warnings, replace)
+    if workers == 0 and client is None:
+        workers = local_workers(0, (checked or preflight(plan, design)).compiled)
     try:
         pending, finished, done_variants = _execute(plan, design, store, client, workers, progress)
     except UserInputError:
