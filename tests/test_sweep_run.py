@@ -22,9 +22,9 @@ from conftest import PAPER_DIR, REPO_ROOT
 from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.grid import run_tests, select
-from vrusim.sweep.plan import VariantBuilder, make_plan
 from vrusim.sweep.design import make_design
 from vrusim.sweep.execute import cpu_count
+from vrusim.sweep.plan import VariantBuilder, make_plan
 from vrusim.sweep.runner import local_workers, preflight, run_sweep
 from vrusim.sweep.spec import load_spec
 from vrusim.sweep.store import SweepStore, chunk_name
