@@ -91,13 +91,16 @@ def locate_point(path, offset, station):  # pragma: no cover
     """
     xs, ys, tangents, kappas, last, inv_spacing, _, _ = path
     scaled = station * inv_spacing
-    j = min(max(math.floor(scaled), 0), last[offset] - 1)
-    flat = offset + j
+    # the segment index clamped to the row's samples, as a float (exact: whole numbers) so that `frac` does not
+    # wait for a conversion back; indices unsigned (>= 0 here), which spares numba's negative-index wrap
+    j = min(max(np.floor(scaled), 0.0), last[offset] - 1.0)
+    flat = np.uint64(offset) + np.uint64(j)
+    following = flat + np.uint64(1)
     frac = scaled - j
     x0, y0 = xs[flat], ys[flat]
     return (
-        x0 + frac * (xs[flat + 1] - x0),
-        y0 + frac * (ys[flat + 1] - y0),
+        x0 + frac * (xs[following] - x0),
+        y0 + frac * (ys[following] - y0),
         tangents[flat, 0],
         tangents[flat, 1],
         kappas[flat],
