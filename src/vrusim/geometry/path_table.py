@@ -6,8 +6,6 @@ beyond either end it continues along its first / last segment.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from vrusim.geometry.paths import SAMPLE_SPACING_M, PathSpec, PolylineSpec, sample_path, sample_polyline

@@ -38,7 +38,10 @@ def rotate(hx, hy, angle):  # pragma: no cover (compiled)
     else:
         c, s = math.cos(angle), math.sin(angle)
     rx, ry = c * hx - s * hy, s * hx + c * hy
-    inv = 1.0 / np.sqrt(rx * rx + ry * ry)
+    norm2 = rx * rx + ry * ry
+    if norm2 == 1.0:  # already a unit vector (an ego on a straight route along an axis): dividing by 1 is exact
+        return rx, ry
+    inv = 1.0 / np.sqrt(norm2)
     return rx * inv, ry * inv
 
 
