@@ -124,3 +124,28 @@ def test_limits_held_reads_each_limit_once_and_a_grid_build_still_applies_them(m
     monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "1")
     with pytest.raises(ValidationError, match="VRUSIM_LIMIT_SPEED_MPS"):
         run_tests(select(["CPNA"], protocol="2026"))  # built inside limits_held: the limit applies
+
+
+_CACHED_KERNEL = """
+import sys
+import numpy as np
+from numba.core.base import BaseContext
+from vrusim.geometry.ttc import ttc_batch
+
+refreshed = []
+real_refresh = BaseContext.refresh
+BaseContext.refresh = lambda context: refreshed.append(context) or real_refresh(context)
+out = np.zeros((1, 1))
+ones = np.ones(1)
+ttc_batch(1, np.zeros(1), np.zeros(1), ones, np.zeros(1), ones, ones, ones, np.full((1, 1), 10.0), np.zeros((1, 1)),
+          np.ones((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)), out)
+print(out[0, 0], len(refreshed))
+"""
+
+
+def test_a_kernel_loaded_from_the_cache_does_not_refresh_numbas_contexts(tmp_path):
+    first = _python(_CACHED_KERNEL, NUMBA_CACHE_DIR=str(tmp_path)).stdout.split()  # compiles: numba refreshes
+    second = _python(_CACHED_KERNEL, NUMBA_CACHE_DIR=str(tmp_path)).stdout.split()  # loads it from the cache
+    assert first[0] == second[0] == "8.0"  # 10 m ahead, closing at 1 m/s, half length 1 m and radius 1 m
+    assert int(first[1]) > 0
+    assert second[1] == "0"

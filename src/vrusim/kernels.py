@@ -99,8 +99,41 @@ def _load_numba_array_support_without_scipy() -> None:
         pass
 
 
+def _load_cached_kernels_without_refresh() -> None:
+    """Load this package's cached kernels without first refreshing numba's compiler contexts.
+
+    Before numba loads a kernel from its cache it refreshes the typing and target contexts: it imports and
+    registers the implementations of everything numba can compile (about 0.15 s, once per process, paid by the
+    first kernel a command uses). Loading machine code needs none of it, only numba's runtime (NRT), which is
+    initialised here as numba does in the refresh; a kernel that compiles (a cache miss) still refreshes both
+    contexts first, in numba's compiler. Only caches of kernels defined in this package take the short path;
+    other libraries' keep numba's. Best effort: with a numba that differs, its own loading happens instead.
+    """
+    try:
+        from numba.core.caching import Cache
+        from numba.core.runtime.nrt import rtsys
+
+        numba_load = Cache.load_overload
+        guard = Cache._guard_against_spurious_io_errors
+        Cache._load_overload  # noqa: B018 (numba's loader without the refresh: present, or keep numba's way)
+    except (ImportError, AttributeError):
+        return
+
+    def load_overload(cache, sig, target_context):
+        module = getattr(getattr(cache, "_py_func", None), "__module__", None) or ""
+        if module.partition(".")[0] != __package__:
+            return numba_load(cache, sig, target_context)
+        rtsys.initialize(target_context)
+        with guard(cache):
+            return cache._load_overload(sig, target_context)
+        return None  # the guard swallowed an I/O error: compile instead, as numba does
+
+    Cache.load_overload = load_overload
+
+
 _configure_kernel_cache()
 _load_numba_array_support_without_scipy()
+_load_cached_kernels_without_refresh()
 attach_compile_notices()  # the command line's "compiling" notices, if it asked for them before numba loaded
 
 PARALLEL_MIN_BATCH = 4096
