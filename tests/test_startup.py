@@ -149,3 +149,20 @@ def test_a_kernel_loaded_from_the_cache_does_not_refresh_numbas_contexts(tmp_pat
     assert first[0] == second[0] == "8.0"  # 10 m ahead, closing at 1 m/s, half length 1 m and radius 1 m
     assert int(first[1]) > 0
     assert second[1] == "0"
+
+
+_EXIT_PROBE = """
+import atexit, gc, sys
+atexit.register(lambda: print("frozen at exit:", gc.get_freeze_count() > 0))
+sys.argv = ["vrusim", "--version"]
+from vrusim.cli.app import main
+main({argv})
+"""
+
+
+def test_the_command_line_freezes_the_collector_only_when_the_process_ends_with_it():
+    # the interpreter's shutdown collections over numba's and pydantic's objects took about 0.2 s of each command
+    version = f"vrusim {vrusim.__version__}"
+    assert _python(_EXIT_PROBE.format(argv="")).stdout.splitlines() == [version, "frozen at exit: True"]
+    kept = _python(_EXIT_PROBE.format(argv='["--version"]')).stdout.splitlines()  # a caller that goes on
+    assert kept == [version, "frozen at exit: False"]

@@ -12,6 +12,7 @@ not yet compiled for this version) says so on stderr while it compiles; stdout s
 
 from __future__ import annotations
 
+import gc
 import sys
 from collections.abc import Callable, Sequence
 from typing import Annotated
@@ -94,10 +95,25 @@ for _name, _command in COMMANDS.items():
 
 def main(argv: Sequence[str] | None = None, prog_name: str = "vrusim") -> None:
     """Console-script entry point: run the app; any UserInputError becomes its message and exit code 2. Kernels
-    that compile (a cold start) are announced on stderr, one line per kernel (`vrusim.kernel_notices`)."""
+    that compile (a cold start) are announced on stderr, one line per kernel (`vrusim.kernel_notices`).
+
+    Without `argv` (the process's own command line: the console script, `python -m vrusim`) the process ends
+    when the command does, and the garbage collector is frozen first (`_before_exit`); with `argv` (a caller
+    that goes on, e.g. a test) it is left alone.
+    """
     try:
         with compile_notices():
             app(args=None if argv is None else list(argv), prog_name=prog_name)
     except UserInputError as error:
         report_user_error(error)
         sys.exit(USER_ERROR_EXIT_CODE)
+    finally:
+        if argv is None:
+            _before_exit()
+
+
+def _before_exit() -> None:
+    """Freeze the garbage collector: the interpreter's shutdown then skips its collections over every object
+    alive (numba's compiler and pydantic's schemas alone are some 100,000), about 0.2 s of a command's wall
+    time. Shutdown is otherwise unchanged (atexit handlers run, streams are flushed, objects freed)."""
+    gc.freeze()
