@@ -170,3 +170,30 @@ def test_the_command_line_tunes_the_collector_only_when_the_process_is_its_own()
     kept = _python(_EXIT_PROBE.format(argv='["--version"]')).stdout.splitlines()  # a caller that goes on
     assert kept == [version, f"at exit: {gc.get_threshold()[0]} False"]
     assert gc.get_threshold()[0] < GC_THRESHOLDS[0]
+
+
+def test_a_batch_kernel_makes_its_dispatchers_when_first_called():
+    code = """
+import numpy as np
+from vrusim.geometry.contact import clearance_batch
+print(clearance_batch._serial is None, clearance_batch._parallel is None)
+clearance = np.zeros((3, 1, 1))
+ones = np.ones(1)
+clearance_batch(1, np.zeros(1), np.zeros(1), ones, np.zeros(1), ones, ones, np.full((1, 1), 3.0), np.zeros((1, 1)),
+                np.ones((1, 1)), clearance)
+print(clearance_batch._serial is None, clearance_batch._parallel is None, clearance[0, 0, 0])
+"""
+    assert _python(code).stdout.split() == ["True", "True", "False", "True", "1.0"]  # only the serial one, used
+
+
+def test_the_low_speed_planners_are_imported_when_a_run_names_them():
+    code = """
+import sys
+from vrusim.engine.simulate import simulate
+from vrusim.planners.registry import make_planner
+low_speed = ("vrusim.planners.acpe", "vrusim.planners.dow", "vrusim.planners.reverse_aeb")
+print(sorted(m for m in low_speed if m in sys.modules))
+print(type(make_planner("dow")).__name__, sorted(m for m in low_speed if m in sys.modules))
+"""
+    lines = _python(code).stdout.splitlines()
+    assert lines == ["[]", "DowPlanner ['vrusim.planners.dow']"]

@@ -141,18 +141,39 @@ PARALLEL_MIN_BATCH = 4096
 
 
 class BatchKernel:
-    """A kernel whose first argument's leading axis (or `size=`) chooses serial or parallel execution."""
+    """A kernel whose first argument's leading axis (or `size=`) chooses serial or parallel execution.
+
+    Each version's numba dispatcher is made when it is first used (making one costs about 0.3 ms; a command
+    imports some 20 batch kernels and runs a few of them, most never in parallel). Batch kernels are called
+    from Python only, never from other kernels, so nothing needs the dispatchers before then.
+    """
 
     def __init__(self, function: Callable):
-        self.serial = njit(cache=True, _nrt=False)(function)
-        # a renamed copy, so that the on-disk caches of the two versions do not collide
-        self.parallel = njit(cache=True, parallel=True, _nrt=False)(_renamed(function, "_threaded"))
+        self.function = function
+        self._serial: Callable | None = None
+        self._parallel: Callable | None = None
         self.__doc__ = function.__doc__
+
+    @property
+    def serial(self) -> Callable:
+        """The serial version (numba dispatcher)."""
+        if self._serial is None:
+            self._serial = njit(cache=True, _nrt=False)(self.function)
+        return self._serial
+
+    @property
+    def parallel(self) -> Callable:
+        """The multi-threaded version (numba dispatcher)."""
+        if self._parallel is None:
+            # a renamed copy, so that the on-disk caches of the two versions do not collide
+            self._parallel = njit(cache=True, parallel=True, _nrt=False)(_renamed(self.function, "_threaded"))
+        return self._parallel
 
     def __call__(self, size: int, *args):
         if size >= PARALLEL_MIN_BATCH and numba.get_num_threads() > 1:
             return self.parallel(*args)
-        return self.serial(*args)
+        serial = self._serial
+        return (self.serial if serial is None else serial)(*args)
 
 
 def batch_kernel(function: Callable) -> BatchKernel:
