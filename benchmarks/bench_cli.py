@@ -14,9 +14,9 @@ Run: python benchmarks/bench_cli.py [--runs 5] [--parts ncap run cold] [--instal
 Each warm command runs once unmeasured (filling the compiled-kernel cache and Python's bytecode cache), then `--runs`
 times; the table gives the fastest and the median wall time, from starting the process to its exit, terminal output
 discarded. Commands run as `python -m vrusim` with this Python (the code on PYTHONPATH, e.g. a worktree's src);
-`--installed` runs the `vrusim` console script next to this Python instead. Warm commands run without PYTHONDONTWRITEBYTECODE (set in some
-sandboxes and CI images): with it Python recompiles every vrusim module from source at each start (about 0.13 s on
-this VM), which no installed copy does after its first run.
+`--installed` runs the `vrusim` console script next to this Python instead. Warm commands run without
+PYTHONDONTWRITEBYTECODE (set in some sandboxes and CI images): with it Python recompiles every vrusim module from
+source at each start (about 0.13 s on this VM), which no installed copy does after its first run.
 """
 
 from __future__ import annotations
