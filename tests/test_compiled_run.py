@@ -166,3 +166,26 @@ def test_what_takes_the_per_step_path(paper_batch):
     assert_identical(simulate(paper_batch), simulate(paper_batch, compiled=False))
     untraced = simulate(paper_batch).metrics.values
     np.testing.assert_array_equal(traced.metrics.values[RESULT_ROWS], untraced[RESULT_ROWS], strict=True)
+
+
+def test_variants_with_drivers_or_doors_run_per_step_and_the_others_compiled(monkeypatch):
+    tests = select(["CBDA", "CPMFC", "CPNA", "CBLA"], night=True, protocol="2026")
+    batch = pack([build_test(test, "fsm").scenario for test in tests[::2]])
+    low_speed = batch.driver.has | batch.door.has
+    assert low_speed.any() and not low_speed.all()
+    assert "drivers or doors" in compiled_run.compiled_support(batch, make_planner("fsm"), None, trace=False)
+    compiled_sizes = []
+    run_compiled = compiled_run.run_compiled
+
+    def counted(part, planner, mode_count):
+        compiled_sizes.append(part.size)
+        return run_compiled(part, planner, mode_count)
+
+    monkeypatch.setattr("vrusim.engine.simulate.run_compiled", counted)
+    split = simulate(batch, planner=make_planner("fsm"))
+    assert compiled_sizes == [int((~low_speed).sum())]  # the variants without a driver or a door
+    per_step = simulate(batch, planner=make_planner("fsm"), compiled=False)
+    assert_identical(split, per_step)
+    assert split.metrics.transitions and split.metrics.collided.any()
+    with pytest.raises(ValueError, match="drivers or doors"):
+        simulate(batch, compiled=True)  # the whole batch compiled: still refused

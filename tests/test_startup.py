@@ -3,6 +3,7 @@ so on stderr while a warm one says nothing."""
 
 from __future__ import annotations
 
+import gc
 import io
 import json
 import os
@@ -14,7 +15,7 @@ import numba
 import pytest
 
 import vrusim
-from vrusim.cli.app import main
+from vrusim.cli.app import GC_THRESHOLDS, main
 from vrusim.kernel_notices import compile_notices
 
 SRC = Path(vrusim.__file__).resolve().parents[1]
@@ -124,3 +125,75 @@ def test_limits_held_reads_each_limit_once_and_a_grid_build_still_applies_them(m
     monkeypatch.setenv("VRUSIM_LIMIT_SPEED_MPS", "1")
     with pytest.raises(ValidationError, match="VRUSIM_LIMIT_SPEED_MPS"):
         run_tests(select(["CPNA"], protocol="2026"))  # built inside limits_held: the limit applies
+
+
+_CACHED_KERNEL = """
+import sys
+import numpy as np
+from numba.core.base import BaseContext
+from vrusim.geometry.ttc import ttc_batch
+
+refreshed = []
+real_refresh = BaseContext.refresh
+BaseContext.refresh = lambda context: refreshed.append(context) or real_refresh(context)
+out = np.zeros((1, 1))
+ones = np.ones(1)
+ttc_batch(1, np.zeros(1), np.zeros(1), ones, np.zeros(1), ones, ones, ones, np.full((1, 1), 10.0), np.zeros((1, 1)),
+          np.ones((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)), out)
+print(out[0, 0], len(refreshed))
+"""
+
+
+def test_a_kernel_loaded_from_the_cache_does_not_refresh_numbas_contexts(tmp_path):
+    first = _python(_CACHED_KERNEL, NUMBA_CACHE_DIR=str(tmp_path)).stdout.split()  # compiles: numba refreshes
+    second = _python(_CACHED_KERNEL, NUMBA_CACHE_DIR=str(tmp_path)).stdout.split()  # loads it from the cache
+    assert first[0] == second[0] == "8.0"  # 10 m ahead, closing at 1 m/s, half length 1 m and radius 1 m
+    assert int(first[1]) > 0
+    assert second[1] == "0"
+
+
+_EXIT_PROBE = """
+import atexit, gc, sys
+atexit.register(lambda: print("at exit:", gc.get_threshold()[0], gc.get_freeze_count() > 0))
+sys.argv = ["vrusim", "--version"]
+from vrusim.cli.app import main
+main({argv})
+"""
+
+
+def test_the_command_line_tunes_the_collector_only_when_the_process_is_its_own():
+    # collections over numba's and pydantic's objects took about 0.1 s of `vrusim ncap` while they were created
+    # and about 0.2 s of each command's shutdown
+    version = f"vrusim {vrusim.__version__}"
+    own = _python(_EXIT_PROBE.format(argv="")).stdout.splitlines()
+    assert own == [version, f"at exit: {GC_THRESHOLDS[0]} True"]
+    kept = _python(_EXIT_PROBE.format(argv='["--version"]')).stdout.splitlines()  # a caller that goes on
+    assert kept == [version, f"at exit: {gc.get_threshold()[0]} False"]
+    assert gc.get_threshold()[0] < GC_THRESHOLDS[0]
+
+
+def test_a_batch_kernel_makes_its_dispatchers_when_first_called():
+    code = """
+import numpy as np
+from vrusim.geometry.contact import clearance_batch
+print(clearance_batch._serial is None, clearance_batch._parallel is None)
+clearance = np.zeros((3, 1, 1))
+ones = np.ones(1)
+clearance_batch(1, np.zeros(1), np.zeros(1), ones, np.zeros(1), ones, ones, np.full((1, 1), 3.0), np.zeros((1, 1)),
+                np.ones((1, 1)), clearance)
+print(clearance_batch._serial is None, clearance_batch._parallel is None, clearance[0, 0, 0])
+"""
+    assert _python(code).stdout.split() == ["True", "True", "False", "True", "1.0"]  # only the serial one, used
+
+
+def test_the_low_speed_planners_are_imported_when_a_run_names_them():
+    code = """
+import sys
+from vrusim.engine.simulate import simulate
+from vrusim.planners.registry import make_planner
+low_speed = ("vrusim.planners.acpe", "vrusim.planners.dow", "vrusim.planners.reverse_aeb")
+print(sorted(m for m in low_speed if m in sys.modules))
+print(type(make_planner("dow")).__name__, sorted(m for m in low_speed if m in sys.modules))
+"""
+    lines = _python(code).stdout.splitlines()
+    assert lines == ["[]", "DowPlanner ['vrusim.planners.dow']"]

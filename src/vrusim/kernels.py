@@ -99,8 +99,41 @@ def _load_numba_array_support_without_scipy() -> None:
         pass
 
 
+def _load_cached_kernels_without_refresh() -> None:
+    """Load this package's cached kernels without first refreshing numba's compiler contexts.
+
+    Before numba loads a kernel from its cache it refreshes the typing and target contexts: it imports and
+    registers the implementations of everything numba can compile (about 0.15 s, once per process, paid by the
+    first kernel a command uses). Loading machine code needs none of it, only numba's runtime (NRT), which is
+    initialised here as numba does in the refresh; a kernel that compiles (a cache miss) still refreshes both
+    contexts first, in numba's compiler. Only caches of kernels defined in this package take the short path;
+    other libraries' keep numba's. Best effort: with a numba that differs, its own loading happens instead.
+    """
+    try:
+        from numba.core.caching import Cache
+        from numba.core.runtime.nrt import rtsys
+
+        numba_load = Cache.load_overload
+        guard = Cache._guard_against_spurious_io_errors
+        Cache._load_overload  # noqa: B018 (numba's loader without the refresh: present, or keep numba's way)
+    except (ImportError, AttributeError):
+        return
+
+    def load_overload(cache, sig, target_context):
+        module = getattr(getattr(cache, "_py_func", None), "__module__", None) or ""
+        if module.partition(".")[0] != __package__:
+            return numba_load(cache, sig, target_context)
+        rtsys.initialize(target_context)
+        with guard(cache):
+            return cache._load_overload(sig, target_context)
+        return None  # the guard swallowed an I/O error: compile instead, as numba does
+
+    Cache.load_overload = load_overload
+
+
 _configure_kernel_cache()
 _load_numba_array_support_without_scipy()
+_load_cached_kernels_without_refresh()
 attach_compile_notices()  # the command line's "compiling" notices, if it asked for them before numba loaded
 
 PARALLEL_MIN_BATCH = 4096
@@ -108,18 +141,39 @@ PARALLEL_MIN_BATCH = 4096
 
 
 class BatchKernel:
-    """A kernel whose first argument's leading axis (or `size=`) chooses serial or parallel execution."""
+    """A kernel whose first argument's leading axis (or `size=`) chooses serial or parallel execution.
+
+    Each version's numba dispatcher is made when it is first used (making one costs about 0.3 ms; a command
+    imports some 20 batch kernels and runs a few of them, most never in parallel). Batch kernels are called
+    from Python only, never from other kernels, so nothing needs the dispatchers before then.
+    """
 
     def __init__(self, function: Callable):
-        self.serial = njit(cache=True, _nrt=False)(function)
-        # a renamed copy, so that the on-disk caches of the two versions do not collide
-        self.parallel = njit(cache=True, parallel=True, _nrt=False)(_renamed(function, "_threaded"))
+        self.function = function
+        self._serial: Callable | None = None
+        self._parallel: Callable | None = None
         self.__doc__ = function.__doc__
+
+    @property
+    def serial(self) -> Callable:
+        """The serial version (numba dispatcher)."""
+        if self._serial is None:
+            self._serial = njit(cache=True, _nrt=False)(self.function)
+        return self._serial
+
+    @property
+    def parallel(self) -> Callable:
+        """The multi-threaded version (numba dispatcher)."""
+        if self._parallel is None:
+            # a renamed copy, so that the on-disk caches of the two versions do not collide
+            self._parallel = njit(cache=True, parallel=True, _nrt=False)(_renamed(self.function, "_threaded"))
+        return self._parallel
 
     def __call__(self, size: int, *args):
         if size >= PARALLEL_MIN_BATCH and numba.get_num_threads() > 1:
             return self.parallel(*args)
-        return self.serial(*args)
+        serial = self._serial
+        return (self.serial if serial is None else serial)(*args)
 
 
 def batch_kernel(function: Callable) -> BatchKernel:

@@ -30,7 +30,7 @@ from vrusim.planners.base import (
 )
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
-from vrusim.sim.compaction import compactable
+from vrusim.sim.compaction import compactable, take
 from vrusim.sim.params import BatchParams, pack
 from vrusim.sim.v2x.messages import Channel
 
@@ -71,8 +71,10 @@ def simulate(
     planner or channel passed in then ends the run holding only the variants still running at its end.
 
     `compiled`: None runs a built-in planner's compiled step (`engine.compiled_run`) when the run allows it,
-    else the per-step path; False always takes the per-step path (Python planners always do); True insists on
-    the compiled step (ValueError saying why it cannot). Both paths give identical results.
+    else the per-step path; a batch that only some variants' drivers or doors keep from the compiled step runs
+    those variants per step and the others compiled (`_split_run`). False always takes the per-step path
+    (Python planners always do); True insists on the compiled step for the whole batch (ValueError saying why
+    it cannot). All give identical results.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
     check_budgets(batch, trace)
@@ -89,6 +91,22 @@ def simulate(
             planner.reset(batch)  # a variant changes mode too often to buffer its transitions: per step
         elif compiled:
             raise ValueError(f"simulate(compiled=True): no compiled step for this run ({why_not})")
+        elif channel is None and not trace:
+            split = _split_run(batch, planner, planner_name, mode_names)
+            if split is not None:
+                return split
+    return _per_step(batch, planner, planner_name, mode_names, channel, trace)
+
+
+def _per_step(
+    batch: BatchParams,
+    planner: Planner,
+    planner_name: str,
+    mode_names: tuple[str, ...],
+    channel: Channel | None,
+    trace: bool,
+) -> BatchRun:
+    """The per-step path: the batch in lock-step, the planner (reset for it) called from Python every step."""
     stepper = BatchStepper(batch, len(mode_names), channel)
     recorder = TraceRecorder(batch.n_steps) if trace else None
     can_compact = recorder is None and compactable(planner, stepper.channel, stepper.sensor)
@@ -113,6 +131,40 @@ def simulate(
         if can_compact and running < COMPACT_BELOW * active.size:
             planner.compact(stepper.compact())
     return BatchRun(batch, stepper.finish(), mode_names, recorder.finish() if recorder else None, stepper.step_index)
+
+
+def _split_run(batch: BatchParams, planner: Planner, planner_name: str, mode_names: tuple[str, ...]) -> BatchRun | None:
+    """Run the variants with a driver or a door (`ego.driver`, `ego.door`) per step and the others with the
+    compiled step, as two batches, and put their results together as the whole batch's; None when that does not
+    apply (no such variants, only such variants, or the compiled step cannot run the others either) or the
+    compiled part must run per step after all (`run_compiled`). A variant's results do not depend on the rest of
+    its batch, and both paths give identical results, so this equals one per-step run of the batch (the
+    transitions in the same order: by step, then by variant); it saves the per-step path's fixed cost per step
+    for the variants that can do without it. The planner ends the run reset for the per-step variants."""
+    low_speed = batch.driver.has | batch.door.has
+    if low_speed.all() or not low_speed.any():
+        return None
+    fast_rows, slow_rows = np.flatnonzero(~low_speed), np.flatnonzero(low_speed)
+    fast = take(batch, fast_rows)
+    planner.reset(fast)
+    if compiled_support(fast, planner, None, False) is not None:
+        planner.reset(batch)
+        return None
+    done = run_compiled(fast, planner, len(mode_names))
+    if done is None:
+        planner.reset(batch)
+        return None
+    slow_batch = take(batch, slow_rows)
+    planner.reset(slow_batch)
+    slow = _per_step(slow_batch, planner, planner_name, mode_names, None, False)
+    metrics = RunMetrics(batch, len(mode_names))
+    transitions = []
+    for rows, part in ((fast_rows, done[0]), (slow_rows, slow.metrics)):
+        part._variant = rows
+        metrics.merge(part)
+        transitions += [(t_s, int(rows[b]), old, new) for t_s, b, old, new in part.transitions]
+    metrics.transitions = sorted(transitions, key=lambda transition: transition[:2])
+    return BatchRun(batch, metrics, mode_names, None, max(done[1], slow.steps))
 
 
 def check_budgets(batch: BatchParams, trace: bool) -> None:

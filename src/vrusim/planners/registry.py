@@ -23,10 +23,8 @@ from collections.abc import Callable
 from pathlib import Path
 
 from vrusim.errors import UserInputError
-from vrusim.planners.acpe import AcpePlanner
 from vrusim.planners.aeb import AebPlanner
 from vrusim.planners.base import HoldSpeedPlanner, Planner
-from vrusim.planners.dow import DowPlanner
 from vrusim.planners.fsm import FsmPlanner
 from vrusim.planners.permission import (  # noqa: F401 (re-exported: the public home of these names)
     MODULE_PLANNERS_ENV,
@@ -35,16 +33,27 @@ from vrusim.planners.permission import (  # noqa: F401 (re-exported: the public 
     module_planners_allowed,
 )
 from vrusim.planners.predictive import PredictivePlanner
-from vrusim.planners.reverse_aeb import ReverseAebPlanner
+
+
+def _imported(module: str, name: str) -> Callable[[], Planner]:
+    """The class `name` of `module`, imported when first instantiated: the low-speed reference functions, which
+    only low-speed tests and scenarios name, stay out of every other command's start."""
+
+    def make() -> Planner:
+        return getattr(importlib.import_module(module), name)()
+
+    make.__name__ = make.__qualname__ = name
+    return make
+
 
 BUILTIN_PLANNERS: dict[str, Callable[[], Planner]] = {
     "fsm": FsmPlanner,
     "none": HoldSpeedPlanner,
     "aeb": AebPlanner,
     "predictive": PredictivePlanner,
-    "acpe": AcpePlanner,
-    "reverse_aeb": ReverseAebPlanner,
-    "dow": DowPlanner,
+    "acpe": _imported("vrusim.planners.acpe", "AcpePlanner"),
+    "reverse_aeb": _imported("vrusim.planners.reverse_aeb", "ReverseAebPlanner"),
+    "dow": _imported("vrusim.planners.dow", "DowPlanner"),
 }
 ENTRY_POINT_GROUP = "vrusim.planners"
 
