@@ -3,6 +3,7 @@ planner at the nominal impact location), dooring and pedal misapplication agains
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -216,3 +217,25 @@ def test_batched_probes_build_the_same_tests_with_one_probe_batch(monkeypatch):
     assert len(batches) == 1 and batches[0] >= 3  # start-off forward / reversing, pedal misapplication
     assert [build_test(t).scenario.model_dump_json() for t in tests] == single
     assert len(batches) == 1  # the second build ran no probe
+
+
+def test_probe_stations_are_those_of_a_traced_run(monkeypatch):
+    """A probe batch steps the engine without a trace (`ncap.probes._stations`); its times and route stations are
+    the `t_s` and `ego_station_m` of `simulate(..., trace=True)`, bit for bit, every row of every probe."""
+    from vrusim.ncap import probes
+    from vrusim.ncap.build_low_speed import LOW_SPEED_LAYOUTS
+    from vrusim.ncap.grid import select
+
+    tests = [t for t in select(night=True, protocol="2026") if t.spec.layout in LOW_SPEED_LAYOUTS]
+    monkeypatch.setattr(probes, "_RUNS", {})
+    with probes._collect() as needed:  # the probes the low-speed tests ask for (not run while collecting)
+        for test in tests:
+            with contextlib.suppress(probes.ProbeNeeded):
+                build_test(test)
+    scenarios = [probes._scenario(key) for key in sorted(needed)]
+    assert len(scenarios) >= 3 and len({key[1] for key in needed}) >= 2  # several probes, several durations
+    trace = simulate(scenarios, trace=True).trace
+    t_s, station_m = probes._stations(scenarios)
+    np.testing.assert_array_equal(t_s, trace["t_s"], strict=True)
+    np.testing.assert_array_equal(station_m, trace["ego_station_m"], strict=True)
+    assert station_m[-1].min() > 0.0  # the egos moved

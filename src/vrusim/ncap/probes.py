@@ -17,8 +17,11 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from vrusim.engine.simulate import simulate
+from vrusim.engine.simulate import check_budgets
+from vrusim.engine.stepper import BatchStepper
+from vrusim.planners.base import HoldSpeedPlanner
 from vrusim.scenario.schema import Scenario
+from vrusim.sim.params import pack
 
 DT_S = 0.01
 """Simulation step of a probe, s (the tests' step)."""
@@ -76,10 +79,30 @@ def _run(keys: list[Key]) -> None:
     """Run the probes `keys` as one batch; each keeps the rows of its own duration."""
     if len(_RUNS) + len(keys) > _MAX_RUNS:
         _RUNS.clear()
-    trace = simulate([_scenario(key) for key in keys], trace=True).trace
+    t_s, station_m = _stations([_scenario(key) for key in keys])
     for index, key in enumerate(keys):
         rows = math.ceil(key[1] / DT_S - 1e-9) + 1  # the steps of its own duration, and t = 0
-        _RUNS[key] = (trace["t_s"][:rows].copy(), trace["ego_station_m"][:rows, index].copy())
+        _RUNS[key] = (t_s[:rows].copy(), station_m[:rows, index].copy())
+
+
+def _stations(scenarios: list[Scenario]) -> tuple[np.ndarray, np.ndarray]:
+    """Time (s) and each ego's route station (m) after every step of a batch of probes, as the trace of
+    `simulate(scenarios, trace=True)` has them (`t_s`, `ego_station_m`): the engine's own steps under the `none`
+    planner (its driver's request), every variant to the batch's last step, without the rest of a trace and the
+    streamed metrics (a probe needs neither)."""
+    batch = pack(scenarios)
+    check_budgets(batch, trace=False)
+    planner = HoldSpeedPlanner()
+    planner.reset(batch)
+    stepper = BatchStepper(batch, len(planner.mode_names))
+    t_s, station_m = [], []
+    for _ in range(batch.n_steps):
+        running = stepper.advance(planner.act(stepper.observe())).running
+        t_s.append(stepper.t_s)
+        station_m.append(stepper.ego.station_m.copy())
+        if running == 0:
+            break
+    return np.array(t_s), np.array(station_m)
 
 
 @contextmanager
