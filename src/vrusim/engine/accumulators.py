@@ -184,6 +184,18 @@ class RunMetrics:
         self.collided[rows] = sub.collided
         self.first_mode_s[rows] = sub.first_mode_s
 
+    def merge_runs(self, parts: list[tuple[np.ndarray, RunMetrics]]) -> None:
+        """Write separate runs of parts of this batch into this one: (rows of this batch, ascending; the metrics of
+        a run of just those rows). Their transitions are renumbered to this batch's variants and kept in the
+        per-step path's order: by step, then by variant."""
+        transitions = list(self.transitions)
+        for rows, part in parts:
+            variants = self._variant[rows]
+            transitions += [(t_s, int(variants[b]), old, new) for t_s, b, old, new in part.transitions]
+            part._variant = variants
+            self.merge(part)
+        self.transitions = sorted(transitions, key=lambda transition: transition[:2])
+
     def __getattr__(self, name: str) -> np.ndarray:
         index = _I.get(name)
         if index is None:

@@ -158,12 +158,7 @@ def _split_run(batch: BatchParams, planner: Planner, planner_name: str, mode_nam
     planner.reset(slow_batch)
     slow = _per_step(slow_batch, planner, planner_name, mode_names, None, False)
     metrics = RunMetrics(batch, len(mode_names))
-    transitions = []
-    for rows, part in ((fast_rows, done[0]), (slow_rows, slow.metrics)):
-        part._variant = rows
-        metrics.merge(part)
-        transitions += [(t_s, int(rows[b]), old, new) for t_s, b, old, new in part.transitions]
-    metrics.transitions = sorted(transitions, key=lambda transition: transition[:2])
+    metrics.merge_runs([(fast_rows, done[0]), (slow_rows, slow.metrics)])
     return BatchRun(batch, metrics, mode_names, None, max(done[1], slow.steps))
 
 
