@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from vrusim.engine.simulate import simulate
 from vrusim.scenario.loading import scenario_from_mapping
+from vrusim.sim.sensing import sector
 from vrusim.sim.sensing.sector import distance_to_sector, perceived
 
 EPS = 1e-6
@@ -253,6 +254,43 @@ def test_distance_matches_dense_polygon(apex, heading, range_m, fov, seed):
     assert np.all(got >= 0.0)
     assert np.all(got <= reference + 1e-9 * (1 + range_m)), np.max(got - reference)
     assert np.all(reference - got <= tolerance), np.max(reference - got)
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    apex=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    heading=st.floats(-math.pi, math.pi),
+    range_m=st.floats(0.5, 40.0),
+    radius=st.floats(0.0, 1.0),
+    fov=st.floats(1.0, 360.0),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_the_far_screen_of_the_engine_sensor_never_changes_a_result(apex, heading, range_m, radius, fov, seed):
+    """The engine's perception (`sense`) skips the exact distance of footprints clearly beyond the sector's
+    circle; for footprints around that circle (within +-1e-5 relative, where a too tight screen would cut) it
+    agrees with the unscreened distance <= radius."""
+    rng = np.random.default_rng(seed)
+    n = 256
+    rho = (range_m + radius) * (1.0 + rng.uniform(-1e-5, 1e-5, n))
+    rho[:16] = range_m + radius  # exactly on the reach
+    ang = heading + rng.uniform(-math.radians(fov) / 2, math.radians(fov) / 2, n)  # mostly inside the opening
+    px = (apex[0] + rho * np.cos(ang))[None, :]
+    py = (apex[1] + rho * np.sin(ang))[None, :]
+    radii = np.full((1, n), radius)
+    args = _sector_args(apex, heading, range_m, fov)
+    unscreened = distance_to_sector(*args, px, py) <= radii
+    screened = np.empty((1, n), dtype=bool)
+    sector._perceived(1, *args, np.ones(1, dtype=bool), px, py, radii, screened)
+    np.testing.assert_array_equal(screened, unscreened)
+
+
+def test_the_far_screen_skips_only_footprints_beyond_the_sector():
+    """A footprint just inside the reach is perceived, one just beyond (past the screen's margin) is not."""
+    args = _sector_args((0.0, 0.0), 0.0, 20.0, 60.0)
+    px = np.array([[20.3 * (1.0 - 1e-7), 20.3 * (1.0 + 1e-5)]])
+    out = np.empty((1, 2), dtype=bool)
+    sector._perceived(1, *args, np.ones(1, dtype=bool), px, np.zeros((1, 2)), np.full((1, 2), 0.3), out)
+    assert out.tolist() == [[True, False]]
 
 
 # ----------------------------------------------------------------------------------------------------------

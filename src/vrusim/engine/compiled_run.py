@@ -123,8 +123,9 @@ def _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics):  # pragm
         sensor_age[b] = (step - (since // period[b]) * period[b]) * dt
     v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, realistic_channel = v2x[:7]
     coverage_variant(
-        b, v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, centre_x, centre_y, kin[0], kin[1], sent, covered, link
-    )
+        b, v2x_enabled, rsu_x, rsu_y, comm, coverage, valid, centre_x, centre_y, kin[0], kin[1], sent, covered, link,
+        realistic_channel,
+    )  # fmt: skip
     if realistic_channel:
         settings, state = v2x[7:]
         n = int(np.floor(t / dt + 0.5))  # round(t / dt), as the channel object computes it

@@ -108,10 +108,18 @@ def locate_point(path, offset, station):  # pragma: no cover
 @njit(cache=True, inline="always")
 def project_point(path, offset, station, px, py, iterations):  # pragma: no cover (compiled)
     """Newton refinement of the foot point of (px, py): (station, x, y, tangent x, tangent y, curvature)."""
-    for _ in range(iterations):
-        x, y, tx, ty, _k = locate_point(path, offset, station)
-        station = max(station + (px - x) * tx + (py - y) * ty, 0.0)
     x, y, tx, ty, k = locate_point(path, offset, station)
+    return project_from(path, offset, station, x, y, tx, ty, k, px, py, iterations)
+
+
+@njit(cache=True, inline="always")
+def project_from(path, offset, station, x, y, tx, ty, k, px, py, iterations):  # pragma: no cover (compiled)
+    """`project_point` starting at `station`, where the path's point, unit tangent and curvature
+    (`locate_point`) are (x, y), (tx, ty) and k already: a projection that starts where another one ended
+    reuses its last evaluation (bit-identical to `project_point`)."""
+    for _ in range(iterations):
+        station = max(station + (px - x) * tx + (py - y) * ty, 0.0)
+        x, y, tx, ty, k = locate_point(path, offset, station)
     return station, x, y, tx, ty, k
 
 

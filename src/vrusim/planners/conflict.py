@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vrusim.geometry.path_table import nearest_station, project_point
+from vrusim.geometry.path_table import nearest_station, project_from, project_point
 from vrusim.kernels import njit
 from vrusim.sim.observation import Observation
 
@@ -119,31 +119,42 @@ def analyse_vru(
     vy,
     ax,
     ay,
+    every_distance,
 ):  # pragma: no cover (compiled)
     """Conflict facts of one VRU: (station, conflict, lead, distance m, along speed m/s, t_in s, t_out s).
 
     `front_station` and `rear_station` are the route stations of the ego's front and rear bumpers, m: the VRU
-    is tracked until its far edge is behind the rear bumper (clear of the swept footprint).
+    is tracked until its far edge is behind the rear bumper (clear of the swept footprint). The distance of a
+    VRU that does not conflict is inf unless `every_distance` (the built-in planners read it for conflicts
+    only, which spares them the entry projection).
     """
-    station, px, py, tx, ty, _ = project_point(path, offset, station_guess, x, y, 2)
+    station, px, py, tx, ty, kappa = project_point(path, offset, station_guess, x, y, 2)
     lateral = tx * (y - py) - ty * (x - px)
     along = vx * tx + vy * ty
     cross = vy * tx - vx * ty
     half = half_width + radius + margin
     in_corridor = abs(lateral) <= half
     t_in, t_out = corridor_window(lateral, cross, ay * tx - ax * ty, half)
-    lead_time = min(max(t_in, 0.0), horizon)
-    entry = project_point(
-        path,
-        offset,
-        station,
-        x + (vx + 0.5 * ax * lead_time) * lead_time,
-        y + (vy + 0.5 * ay * lead_time) * lead_time,
-        2,
-    )[0]
-    distance = max(min(station, entry) - radius - front_station, 0.0)
     ahead = station + radius >= rear_station
     conflict = ahead and t_out >= 0.0 and t_in <= horizon
+    distance = np.inf
+    if conflict or every_distance:
+        lead_time = min(max(t_in, 0.0), horizon)
+        # Newton from `station`, where the projection above ended: its last evaluation is reused
+        entry = project_from(
+            path,
+            offset,
+            station,
+            px,
+            py,
+            tx,
+            ty,
+            kappa,
+            x + (vx + 0.5 * ax * lead_time) * lead_time,
+            y + (vy + 0.5 * ay * lead_time) * lead_time,
+            2,
+        )[0]
+        distance = max(min(station, entry) - radius - front_station, 0.0)
     lead = conflict and in_corridor and along > LEAD_SPEED_MPS and along > abs(cross)
     return station, conflict, lead, distance, along, t_in, t_out
 
@@ -166,6 +177,7 @@ def track_and_analyse(
     radius,
     margin,
     horizon,
+    every_distance,
 ):  # pragma: no cover (compiled)
     """One VRU slot for one step: refresh its track, then its conflict facts (see `analyse_vru`).
 
@@ -178,8 +190,9 @@ def track_and_analyse(
         return False, station, False, False, np.inf, 0.0, np.inf, -np.inf
     guess = warm_station(path, offset, was_known, x, y, station)
     s, conflict, lead, distance, along, t_in, t_out = analyse_vru(
-        path, offset, guess, front_station, rear_station, half_width, radius, margin, horizon, x, y, vx, vy, ax, ay
-    )
+        path, offset, guess, front_station, rear_station, half_width, radius, margin, horizon, x, y, vx, vy, ax, ay,
+        every_distance,
+    )  # fmt: skip
     return True, s, conflict, lead, distance, along, t_in, t_out
 
 
@@ -277,6 +290,7 @@ def _analyse_batch(
                 radius[b, k],
                 margin[b],
                 horizon[b],
+                True,  # `Conflicts` reports every VRU's distance
             )
             out[0, b, k] = 1.0 if conflict else 0.0
             out[1, b, k] = 1.0 if lead else 0.0

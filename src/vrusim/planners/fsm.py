@@ -234,6 +234,7 @@ def fsm_variant(
             radius[b, k],
             p[b, _MARGIN],
             p[b, _HORIZON],
+            False,  # the distance of a VRU that does not conflict is not read below
         )
         if not known:
             continue

@@ -293,7 +293,7 @@ def predictive_variant(
         s_now, _, lead, _, _, _, _ = analyse_vru(
             route, offsets[b], guess, front_station[b], front_station[b], half_width[b], r, p[b, _MARGIN_M],
             ENTRY_HORIZON_S,
-            x, y, vx, vy, 0.0, 0.0,
+            x, y, vx, vy, 0.0, 0.0, False,
         )  # fmt: skip
         station[b, k] = s_now
         ttc = min(

@@ -16,6 +16,11 @@ import numpy as np
 from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.sim.sensing.occlusion import ObstacleArrays, occlude
 
+FAR_FACTOR = 1.0 + 1e-6
+"""Margin of the far screen in `perceived_variant`: the distance to the sector is at least the distance to its
+circle, and this relative margin (sqrt: 5e-7) far exceeds the rounding of either, so the screen never changes a
+result."""
+
 
 @njit(cache=True, inline="always")
 def sector_distance(dx, dy, hx, hy, range_m, cos_half, sin_half):  # pragma: no cover (compiled)
@@ -47,14 +52,18 @@ def _distances(apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, px, py):  # 
 def perceived_variant(
     b, apex_x, apex_y, hx, hy, range_m, cos_half, sin_half, enabled, px, py, radius, out
 ):  # pragma: no cover (compiled)
-    """`out[b, :]`: which VRUs of variant b its sector covers (before occlusion)."""
+    """`out[b, :]`: which VRUs of variant b its sector covers (before occlusion).
+
+    A footprint clearly beyond the sector's circle (squared distance above `FAR_FACTOR` times the squared reach,
+    range plus radius) is not covered whatever its bearing, and skips the exact distance.
+    """
     for k in range(px.shape[1]):
+        dx, dy = px[b, k] - apex_x[b], py[b, k] - apex_y[b]
+        reach = range_m[b] + radius[b, k]
         out[b, k] = (
             enabled[b]
-            and sector_distance(
-                px[b, k] - apex_x[b], py[b, k] - apex_y[b], hx[b], hy[b], range_m[b], cos_half[b], sin_half[b]
-            )
-            <= radius[b, k]
+            and not dx * dx + dy * dy > FAR_FACTOR * (reach * reach)
+            and sector_distance(dx, dy, hx[b], hy[b], range_m[b], cos_half[b], sin_half[b]) <= radius[b, k]
         )
 
 

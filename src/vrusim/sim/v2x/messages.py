@@ -89,17 +89,19 @@ def _coverage(
 ):  # pragma: no cover (compiled)
     for b in prange(vru_x.shape[0]):
         coverage_variant(
-            b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
+            b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link, True
         )
 
 
 @njit(cache=True, inline="always")
 def coverage_variant(
-    b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link
+    b, enabled, rsu_x, rsu_y, comm, coverage, valid, ego_x, ego_y, vru_x, vru_y, received, covered, link, with_link
 ):  # pragma: no cover (compiled)
-    """What the RSU sends to variant b's ego (`rsu_broadcast`)."""
+    """What the RSU sends to variant b's ego (`rsu_broadcast`); the link distance (m) only `with_link` (the
+    realistic channel reads it, the ideal one does not)."""
     ex, ey = ego_x[b] - rsu_x[b], ego_y[b] - rsu_y[b]
-    link[b] = np.sqrt(ex * ex + ey * ey)
+    if with_link:
+        link[b] = np.sqrt(ex * ex + ey * ey)
     in_range = enabled[b] and ex * ex + ey * ey <= comm[b] * comm[b]
     for k in range(vru_x.shape[1]):
         vx, vy = vru_x[b, k] - rsu_x[b], vru_y[b, k] - rsu_y[b]

@@ -1,0 +1,73 @@
+"""Conflict analysis shortcuts are exact: the entry projection restarts from the first projection's last
+evaluation (`project_from`), and the built-in planners skip it for VRUs that do not conflict."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vrusim.geometry.path_table import PathTable, locate_point, project_from, project_point
+from vrusim.geometry.paths import Arc, Line, PathSpec
+from vrusim.kernels import njit
+from vrusim.planners.conflict import analyse_vru
+
+ROUTE = PathTable([PathSpec(-30.0, 0.0, 0.0, (Line(25.0), Arc(15.0, 0.5)))])
+
+
+@njit
+def _both_projections(path, station, px, py, iterations):
+    x, y, tx, ty, k = locate_point(path, 0, station)
+    return project_point(path, 0, station, px, py, iterations), project_from(
+        path, 0, station, x, y, tx, ty, k, px, py, iterations
+    )
+
+
+@njit
+def _analyse(path, guess, x, y, vx, vy, ax, ay, every_distance):
+    return analyse_vru(path, 0, guess, 5.0, 0.5, 0.9, 0.3, 0.25, 5.0, x, y, vx, vy, ax, ay, every_distance)
+
+
+coordinate = st.floats(-40.0, 40.0)
+velocity = st.floats(-6.0, 6.0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(station=st.floats(0.0, 60.0), px=coordinate, py=coordinate, iterations=st.integers(0, 3))
+def test_project_from_a_located_station_is_project_point_bit_for_bit(station, px, py, iterations):
+    plain, resumed = _both_projections(ROUTE.arrays, station, px, py, iterations)
+    assert plain == resumed
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    guess=st.floats(0.0, 50.0),
+    x=coordinate,
+    y=st.floats(-8.0, 8.0),
+    vx=velocity,
+    vy=velocity,
+    ax=st.floats(-2.0, 2.0),
+    ay=st.floats(-2.0, 2.0),
+)
+def test_skipping_distances_of_non_conflicts_changes_nothing_else(guess, x, y, vx, vy, ax, ay):
+    every = _analyse(ROUTE.arrays, guess, x, y, vx, vy, ax, ay, True)
+    conflicts_only = _analyse(ROUTE.arrays, guess, x, y, vx, vy, ax, ay, False)
+    station, conflict, lead, distance, along, t_in, t_out = conflicts_only
+    assert (station, conflict, lead, along, t_in, t_out) == every[:3] + every[4:]
+    if conflict:
+        assert distance == every[3]
+    else:
+        assert distance == np.inf
+
+
+def test_a_crossing_pedestrian_ahead_conflicts_at_its_entry_distance():
+    """Ego front bumper at station 5 m; a pedestrian at station 20 m, 3 m to the right, walking left at 1.5 m/s:
+    in the corridor (half 0.9 + 0.3 + 0.25 m) within the horizon, its near edge 20 - 0.3 - 5 = 14.7 m from the
+    bumper (it crosses square to the route, so its entry is at its own station)."""
+    station, conflict, lead, distance, along, t_in, t_out = _analyse(
+        ROUTE.arrays, 20.0, -10.0, -3.0, 0.0, 1.5, 0.0, 0.0, False
+    )
+    assert conflict and not lead
+    assert station == 20.0 and along == 0.0
+    assert abs(distance - 14.7) < 1e-12
+    assert abs(t_in - (3.0 - 1.45) / 1.5) < 1e-12 and abs(t_out - (3.0 + 1.45) / 1.5) < 1e-12
