@@ -31,12 +31,13 @@ import math
 
 import numpy as np
 
-from vrusim.geometry.path_table import locate_point, nearest_station, project_point
+from vrusim.geometry.path_table import locate_point, nearest_station, project_from, project_point
 from vrusim.kernels import njit
 
 CONSTANT_VELOCITY, PATH = 0, 1
 PROJECTION_ITERATIONS = 3
-"""Newton steps per predicted sample, warm-started from the previous sample's foot point."""
+"""Newton steps per predicted sample, warm-started from the previous sample's foot point (whose evaluation of the
+route is reused: `project_from`)."""
 FOOT_TOLERANCE_M = 0.5
 """A projection whose residual along the route exceeds this did not find a foot point (e.g. before the route
 start); the sample then counts as outside the corridor."""
@@ -138,11 +139,14 @@ def occupancy_bounds(
     half = half_width + radius + corridor_margin
     count = math.floor(horizon / step + 1e-9)
     s_prev = route_station
+    fx, fy, tx, ty, kappa = locate_point(route, route_offset, s_prev)  # the route at s_prev, sample to sample
     e_prev, ok_prev, t_prev = 0.0, False, 0.0
     for i in range(count + 1):
         t = i * step
         px, py = predicted_position(kind, vru_path, vru_offset, x, y, ux, uy, path_station, travelled(speed, accel, t))
-        s, fx, fy, tx, ty, _ = project_point(route, route_offset, s_prev, px, py, PROJECTION_ITERATIONS)
+        s, fx, fy, tx, ty, kappa = project_from(
+            route, route_offset, s_prev, fx, fy, tx, ty, kappa, px, py, PROJECTION_ITERATIONS
+        )
         residual = (px - fx) * tx + (py - fy) * ty
         ok = abs(residual) <= FOOT_TOLERANCE_M
         e = tx * (py - fy) - ty * (px - fx)
