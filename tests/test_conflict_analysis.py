@@ -1,5 +1,7 @@
-"""Conflict analysis shortcuts are exact: the entry projection restarts from the first projection's last
-evaluation (`project_from`), and the built-in planners skip it for VRUs that do not conflict."""
+"""Route evaluation and the conflict analysis's shortcuts are exact: `locate_point` interpolates the segment
+that holds the station (the first or last one beyond the ends), the entry projection restarts from the first
+projection's last evaluation (`project_from`), and the built-in planners skip it for VRUs that do not
+conflict."""
 
 from __future__ import annotations
 
@@ -26,6 +28,39 @@ def _both_projections(path, station, px, py, iterations):
 @njit
 def _analyse(path, guess, x, y, vx, vy, ax, ay, every_distance):
     return analyse_vru(path, 0, guess, 5.0, 0.5, 0.9, 0.3, 0.25, 5.0, x, y, vx, vy, ax, ay, every_distance)
+
+
+def _located_in_numpy(station):
+    """`locate_point`'s result written out with NumPy: segment j = floor(station / spacing) clamped to the row's
+    samples, linear between its ends."""
+    xs, ys, tangents, kappas, last, inv_spacing, _, _ = ROUTE.arrays
+    scaled = station * inv_spacing
+    j = int(min(max(np.floor(scaled), 0.0), last[0] - 1.0))
+    frac = scaled - j
+    return (
+        xs[j] + frac * (xs[j + 1] - xs[j]),
+        ys[j] + frac * (ys[j + 1] - ys[j]),
+        tangents[j, 0],
+        tangents[j, 1],
+        kappas[j],
+    )
+
+
+@njit
+def _located(path, station):
+    return locate_point(path, 0, station)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    station=st.one_of(
+        st.floats(-5.0, 70.0),
+        st.integers(-3, 180).map(lambda i: i * 0.2),  # sample stations (spacing 0.2 m) and just below them
+        st.integers(-3, 180).map(lambda i: np.nextafter(i * 0.2, -np.inf)),
+    )
+)
+def test_locate_point_interpolates_the_segment_holding_the_station(station):
+    assert _located(ROUTE.arrays, station) == _located_in_numpy(station)
 
 
 coordinate = st.floats(-40.0, 40.0)

@@ -89,10 +89,13 @@ def locate_point(path, offset, station):  # pragma: no cover
     """
     xs, ys, tangents, kappas, last, inv_spacing, _, _ = path
     scaled = station * inv_spacing
+    top = last[offset] - 1.0
     # the segment index clamped to the row's samples, as a float (exact: whole numbers) so that `frac` does not
-    # wait for a conversion back; indices unsigned (>= 0 here), which spares numba's negative-index wrap
-    j = min(max(np.floor(scaled), 0.0), last[offset] - 1.0)
-    flat = np.uint64(offset) + np.uint64(j)
+    # wait for a conversion back
+    j = min(max(np.floor(scaled), 0.0), top)
+    # the same index for the loads, from `scaled` clamped first (truncating a number >= 0 floors it), so that
+    # the loads do not wait for the rounding; unsigned (>= 0 here), which spares numba's negative-index wrap
+    flat = np.uint64(offset) + np.uint64(min(max(scaled, 0.0), top))
     following = flat + np.uint64(1)
     frac = scaled - j
     x0, y0 = xs[flat], ys[flat]
