@@ -230,14 +230,18 @@ def polygon_distance(xs, ys, px, py):
     return np.where(inside, 0.0, edge_distance)
 
 
+RANDOM_SECTOR = {
+    "apex": st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    "heading": st.floats(-math.pi, math.pi),
+    "range_m": st.floats(0.5, 40.0),
+    "fov": st.floats(1.0, 360.0),
+    "seed": st.integers(0, 2**32 - 1),
+}
+"""A random sector and a seed for the points tested against it."""
+
+
 @settings(max_examples=60, deadline=None)
-@given(
-    apex=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
-    heading=st.floats(-math.pi, math.pi),
-    range_m=st.floats(0.5, 40.0),
-    fov=st.floats(1.0, 360.0),
-    seed=st.integers(0, 2**32 - 1),
-)
+@given(**RANDOM_SECTOR)
 def test_distance_matches_dense_polygon(apex, heading, range_m, fov, seed):
     rng = np.random.default_rng(seed)
     rho = rng.uniform(0.0, 2.0 * range_m, 64)
@@ -257,14 +261,7 @@ def test_distance_matches_dense_polygon(apex, heading, range_m, fov, seed):
 
 
 @settings(max_examples=80, deadline=None)
-@given(
-    apex=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
-    heading=st.floats(-math.pi, math.pi),
-    range_m=st.floats(0.5, 40.0),
-    radius=st.floats(0.0, 1.0),
-    fov=st.floats(1.0, 360.0),
-    seed=st.integers(0, 2**32 - 1),
-)
+@given(radius=st.floats(0.0, 1.0), **RANDOM_SECTOR)
 def test_the_far_screen_of_the_engine_sensor_never_changes_a_result(apex, heading, range_m, radius, fov, seed):
     """The engine's perception (`sense`) skips the exact distance of footprints clearly beyond the sector's
     circle; for footprints around that circle (within +-1e-5 relative, where a too tight screen would cut) it
