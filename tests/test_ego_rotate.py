@@ -9,18 +9,13 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from vrusim.sim.ego import rotate
+from vrusim.sim.ego import rotate, rotated
 
 
 def renormalised(hx: float, hy: float, angle: float) -> tuple[float, float]:
-    """The rotation as computed before the shortcut, operation for operation (IEEE doubles, as numba's)."""
-    if abs(angle) < 0.05:
-        a2 = angle * angle
-        c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0))
-        s = angle * (1.0 - a2 * ((1.0 / 6.0) - a2 * (1.0 / 120.0)))
-    else:
-        c, s = math.cos(angle), math.sin(angle)
-    rx, ry = c * hx - s * hy, s * hx + c * hy
+    """The rotation as computed before the shortcut: the same rotation, always renormalised, operation for
+    operation (IEEE doubles, as numba's)."""
+    rx, ry = rotated(hx, hy, angle)
     inv = 1.0 / math.sqrt(rx * rx + ry * ry)
     return rx * inv, ry * inv
 

@@ -172,8 +172,7 @@ class BatchKernel:
     def __call__(self, size: int, *args):
         if size >= PARALLEL_MIN_BATCH and numba.get_num_threads() > 1:
             return self.parallel(*args)
-        serial = self._serial
-        return (self.serial if serial is None else serial)(*args)
+        return self.serial(*args)
 
 
 def batch_kernel(function: Callable) -> BatchKernel:

@@ -25,8 +25,8 @@ from vrusim.sim.state import EgoState
 
 
 @njit(cache=True, inline="always")
-def rotate(hx, hy, angle):  # pragma: no cover (compiled)
-    """Rotate a unit vector by an angle (rad), renormalised.
+def rotated(hx, hy, angle):  # pragma: no cover (compiled)
+    """(hx, hy) rotated by an angle (rad), not renormalised.
 
     Small angles (|angle| < 0.05 rad, every step of an ordinary run) use a 5th-order Taylor sine / cosine
     (error < 1e-11); larger ones the exact functions.
@@ -37,7 +37,13 @@ def rotate(hx, hy, angle):  # pragma: no cover (compiled)
         s = angle * (1.0 - a2 * ((1.0 / 6.0) - a2 * (1.0 / 120.0)))
     else:
         c, s = math.cos(angle), math.sin(angle)
-    rx, ry = c * hx - s * hy, s * hx + c * hy
+    return c * hx - s * hy, s * hx + c * hy
+
+
+@njit(cache=True, inline="always")
+def rotate(hx, hy, angle):  # pragma: no cover (compiled)
+    """Rotate a unit vector by an angle (rad) (`rotated`), renormalised."""
+    rx, ry = rotated(hx, hy, angle)
     norm2 = rx * rx + ry * ry
     if norm2 == 1.0:  # already a unit vector (an ego on a straight route along an axis): dividing by 1 is exact
         return rx, ry
