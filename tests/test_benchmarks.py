@@ -18,6 +18,7 @@ sys.path.insert(0, str(BENCHMARKS))
 
 import bench_cli  # noqa: E402
 import bench_engine  # noqa: E402
+import bench_instructions  # noqa: E402
 
 
 def _differences(a: Any, b: Any, path: str = "params") -> list[str]:
@@ -71,3 +72,28 @@ def test_cli_benchmark_parts(tmp_path: Path) -> None:
     assert row["runs"] == 2 and 0 < row["min_s"] <= row["median_s"] and row["met"]
     cold = bench_cli.cold(stand_in, bench_cli.PAPER[0])
     assert cold["says_compiling"] and cold["stderr_line"] == "Compiling kernels (once)"
+
+
+@pytest.mark.parametrize("workload", ["fsm", "predictive", bench_instructions.REFERENCE])
+def test_instruction_benchmark_workloads_run(workload: str) -> None:
+    """The processes the instruction count runs under valgrind run (here without it, at a tiny size)."""
+    _script("bench_instructions.py", "--child", workload, "--batch", "2", "--steps", "3")
+
+
+def test_instruction_count_arithmetic() -> None:
+    text = "desc: --cache-sim=no\ncmd: python x.py\nevents: Ir\nfl=???\n0 12\nsummary: 123456\n"
+    assert bench_instructions.summary_count(text) == 123_456
+    with pytest.raises(ValueError, match="summary"):
+        bench_instructions.summary_count("events: Ir\n")
+    # a run of 1 step and one of 11: 10 extra steps of 4 variants cost 40 x 1,500 instructions
+    assert bench_instructions.per_step(1_000_000, 1_060_000, 4, 11) == 1_500.0
+
+
+def test_instruction_benchmark_without_valgrind() -> None:
+    """Without valgrind the benchmark says what is missing and exits with 2, no traceback."""
+    folder = Path(sys.executable).parent
+    done = subprocess.run(
+        [sys.executable, str(BENCHMARKS / "bench_instructions.py"), "--steps", "5"],
+        capture_output=True, text=True, timeout=120, env={"PATH": str(folder)},
+    )  # fmt: skip
+    assert done.returncode == 2 and "valgrind is not on PATH" in done.stderr and "Traceback" not in done.stderr

@@ -1,0 +1,128 @@
+"""Executed instructions per variant-step of the compiled engine and of the fused reference kernel, counted by
+Valgrind (issue 20): a measure that, unlike wall time, does not drift with this VM's speed.
+
+Run: python benchmarks/bench_instructions.py [--planners fsm none aeb predictive] [--batch 2000] [--steps 1000]
+                                             [--json]
+
+Each workload runs twice under `valgrind --tool=cachegrind --cache-sim=no` in a fresh process (one Numba thread,
+`PYTHONHASHSEED=0`): once for one step and once for `--steps` steps. The difference of the two processes'
+instruction counts, divided by batch × (steps − 1), is the mean instructions of one variant-step over the same
+horizon the engine benchmark times: start-up, imports, kernel loading (or compiling) and packing are the same in
+both runs and cancel out.
+
+Workloads: the engine benchmark's batch (`bench_engine.packed_batch`: the paper pedestrian case, V2X on, stop
+rules off) through `simulate(batch, compiled=True)` for each planner, and `fused_reference.run_reference` on
+the same cruise speeds. Valgrind's virtual CPU is not this machine's, so Numba compiles its kernels for it once
+(minutes, then cached beside the native ones) and their code differs slightly from the native code.
+
+The counts tell where a step's time goes: on this workload the engine and the reference retire about the same
+instructions per cycle, so their speed ratio is their instruction ratio (docs/architecture.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from machine import header, machine, markdown_table
+
+PLANNERS = ("fsm", "none", "aeb", "predictive")
+REFERENCE = "reference"
+DT_S = 0.01
+
+
+def run_workload(workload: str, size: int, steps: int) -> None:
+    """Child process: run one workload (a planner's compiled engine run, or the reference) once, single-threaded."""
+    import numba
+    import numpy as np
+
+    from bench_engine import packed_batch
+
+    numba.set_num_threads(1)
+    params = packed_batch(size, steps * DT_S, "fsm" if workload == REFERENCE else workload)
+    if workload == REFERENCE:
+        from fused_reference import run_reference
+
+        run_reference(np.ascontiguousarray(params.cruise_speed_mps), steps, DT_S)
+        return
+    from vrusim.engine.simulate import simulate
+
+    out = simulate(params, compiled=True)
+    if out.steps != steps:
+        raise SystemExit(f"the engine ran {out.steps} steps instead of {steps}")
+
+
+def summary_count(cachegrind_out: str) -> int:
+    """The total instruction count (`summary:` line) of a cachegrind output file's text."""
+    for line in cachegrind_out.splitlines():
+        if line.startswith("summary:"):
+            return int(line.split()[1])
+    raise ValueError("no 'summary:' line in the cachegrind output")
+
+
+def per_step(count_one: int, count_all: int, size: int, steps: int) -> float:
+    """Mean instructions of one variant-step from the counts of a run of one step and one of `steps` steps."""
+    return (count_all - count_one) / (size * (steps - 1))
+
+
+def count(workload: str, size: int, steps: int) -> int:
+    """Instructions executed by a fresh process running `workload` for `steps` steps under cachegrind."""
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder) / "cachegrind.out"
+        command = [
+            "valgrind", "--tool=cachegrind", "--cache-sim=no", f"--cachegrind-out-file={out}",
+            sys.executable, str(Path(__file__).resolve()), "--child", workload, "--batch", str(size),
+            "--steps", str(steps),
+        ]  # fmt: skip
+        env = {**os.environ, "PYTHONHASHSEED": "0", "NUMBA_NUM_THREADS": "1"}
+        done = subprocess.run(command, env=env, capture_output=True, text=True, check=False)
+        if done.returncode != 0:
+            raise SystemExit(f"{workload} failed under valgrind:\n{done.stderr[-2000:]}")
+        return summary_count(out.read_text())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--planners", nargs="+", choices=PLANNERS, default=["fsm"])
+    parser.add_argument("--batch", type=int, default=2000, help="variants per run (default 2,000)")
+    parser.add_argument("--steps", type=int, default=1000, help="steps of the longer run (default 1,000)")
+    parser.add_argument("--json", action="store_true", help="print the rows as JSON")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        run_workload(args.child, args.batch, args.steps)
+        return
+    if args.batch < 1 or args.steps < 2:
+        parser.error("--batch: expected a positive integer; --steps: expected an integer of at least 2")
+    if shutil.which("valgrind") is None:
+        print(
+            "bench_instructions: valgrind is not on PATH (Debian / Ubuntu: apt-get install valgrind)", file=sys.stderr
+        )
+        raise SystemExit(2)
+    rows = []
+    for workload in [*args.planners, REFERENCE]:
+        one, every = count(workload, args.batch, 1), count(workload, args.batch, args.steps)
+        rows.append(
+            {"workload": workload, "instructions_per_step": round(per_step(one, every, args.batch, args.steps), 1)}
+        )
+    reference = rows[-1]["instructions_per_step"]
+    if args.json:
+        print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
+        return
+    print(header({**machine(), "numba_threads": 1}))
+    print(f"B = {args.batch:,}, runs of 1 and {args.steps:,} steps, one thread, under valgrind (cachegrind)\n")
+    table = [
+        [r["workload"], f"{r['instructions_per_step']:,.0f}", f"{r['instructions_per_step'] / reference:.2f}"]
+        for r in rows
+    ]
+    print(markdown_table(["workload", "instructions / variant-step", "× reference"], table))
+
+
+if __name__ == "__main__":
+    main()
