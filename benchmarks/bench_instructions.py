@@ -2,13 +2,16 @@
 Valgrind (issue 20): a measure that, unlike wall time, does not drift with this VM's speed.
 
 Run: python benchmarks/bench_instructions.py [--planners fsm none aeb predictive] [--batch 2000] [--steps 1000]
-                                             [--json]
+                                             [--reference-batch 20000] [--json]
 
-Each workload runs twice under `valgrind --tool=cachegrind --cache-sim=no` in a fresh process (one Numba thread,
-`PYTHONHASHSEED=0`): once for one step and once for `--steps` steps. The difference of the two processes'
-instruction counts, divided by batch × (steps − 1), is the mean instructions of one variant-step over the same
-horizon the engine benchmark times: start-up, imports, kernel loading (or compiling) and packing are the same in
-both runs and cancel out.
+Each workload runs under `valgrind --tool=cachegrind --cache-sim=no` in fresh processes (one Numba thread,
+`PYTHONHASHSEED=0`): a warm-up of one step (not counted: it compiles the kernels for Valgrind's CPU if they are
+not cached yet), two runs of one step and one of `--steps` steps. The difference between the long run's
+instruction count and the mean of the short runs', divided by batch × (steps − 1), is the mean instructions of
+one variant-step over the horizon the engine benchmark times: start-up, imports, kernel loading and packing are
+the same in every run and cancel out. They cancel only to within a few million instructions, so the table also
+gives the two short runs' difference on the same scale ("start-up spread"); a larger batch shrinks it. The
+reference runs a larger batch (`--reference-batch`), as its steps are short and its start-up spread larger.
 
 Workloads: the engine benchmark's batch (`bench_engine.packed_batch`: the paper pedestrian case, V2X on, stop
 rules off) through `simulate(batch, compiled=True)` for each planner, and `fused_reference.run_reference` on
@@ -66,9 +69,12 @@ def summary_count(cachegrind_out: str) -> int:
     raise ValueError("no 'summary:' line in the cachegrind output")
 
 
-def per_step(count_one: int, count_all: int, size: int, steps: int) -> float:
-    """Mean instructions of one variant-step from the counts of a run of one step and one of `steps` steps."""
-    return (count_all - count_one) / (size * (steps - 1))
+def per_step(counts_one: tuple[int, int], count_all: int, size: int, steps: int) -> tuple[float, float]:
+    """Mean instructions of one variant-step from the counts of two runs of one step and one of `steps` steps, and
+    the two short runs' difference on the same scale (the start-up's spread)."""
+    scale = size * (steps - 1)
+    first, second = counts_one
+    return (count_all - (first + second) / 2) / scale, abs(first - second) / scale
 
 
 def count(workload: str, size: int, steps: int) -> int:
@@ -89,8 +95,11 @@ def count(workload: str, size: int, steps: int) -> int:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--planners", nargs="+", choices=PLANNERS, default=["fsm"])
+    parser.add_argument("--planners", nargs="+", choices=PLANNERS, default=["fsm"], help="default: fsm")
     parser.add_argument("--batch", type=int, default=2000, help="variants per run (default 2,000)")
+    parser.add_argument(
+        "--reference-batch", type=int, default=20_000, help="variants of the reference's runs (default 20,000)"
+    )
     parser.add_argument("--steps", type=int, default=1000, help="steps of the longer run (default 1,000)")
     parser.add_argument("--json", action="store_true", help="print the rows as JSON")
     parser.add_argument("--child", help=argparse.SUPPRESS)
@@ -98,8 +107,8 @@ def main() -> None:
     if args.child:
         run_workload(args.child, args.batch, args.steps)
         return
-    if args.batch < 1 or args.steps < 2:
-        parser.error("--batch: expected a positive integer; --steps: expected an integer of at least 2")
+    if args.batch < 1 or args.reference_batch < 1 or args.steps < 2:
+        parser.error("--batch, --reference-batch: expected positive integers; --steps: expected an integer >= 2")
     if shutil.which("valgrind") is None:
         print(
             "bench_instructions: valgrind is not on PATH (Debian / Ubuntu: apt-get install valgrind)", file=sys.stderr
@@ -107,21 +116,28 @@ def main() -> None:
         raise SystemExit(2)
     rows = []
     for workload in [*args.planners, REFERENCE]:
-        one, every = count(workload, args.batch, 1), count(workload, args.batch, args.steps)
+        size = args.reference_batch if workload == REFERENCE else args.batch
+        count(workload, size, 1)  # warm-up: compiles the kernels for Valgrind's CPU once
+        ones = count(workload, size, 1), count(workload, size, 1)
+        mean, spread = per_step(ones, count(workload, size, args.steps), size, args.steps)
         rows.append(
-            {"workload": workload, "instructions_per_step": round(per_step(one, every, args.batch, args.steps), 1)}
-        )
+            {"workload": workload, "batch": size, "instructions_per_step": round(mean, 1),
+             "startup_spread": round(spread, 1)}
+        )  # fmt: skip
     reference = rows[-1]["instructions_per_step"]
     if args.json:
-        print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
+        print(json.dumps({"machine": machine(), "steps": args.steps, "rows": rows}, indent=2))
         return
     print(header({**machine(), "numba_threads": 1}))
-    print(f"B = {args.batch:,}, runs of 1 and {args.steps:,} steps, one thread, under valgrind (cachegrind)\n")
+    print(f"runs of 1 and {args.steps:,} steps, one thread, under valgrind (cachegrind)\n")
     table = [
-        [r["workload"], f"{r['instructions_per_step']:,.0f}", f"{r['instructions_per_step'] / reference:.2f}"]
+        [
+            r["workload"], f"{r['batch']:,}", f"{r['instructions_per_step']:,.0f}", f"±{r['startup_spread']:,.1f}",
+            f"{r['instructions_per_step'] / reference:.2f}",
+        ]
         for r in rows
-    ]
-    print(markdown_table(["workload", "instructions / variant-step", "× reference"], table))
+    ]  # fmt: skip
+    print(markdown_table(["workload", "B", "instructions / variant-step", "start-up spread", "× reference"], table))
 
 
 if __name__ == "__main__":

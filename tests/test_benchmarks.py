@@ -85,8 +85,8 @@ def test_instruction_count_arithmetic() -> None:
     assert bench_instructions.summary_count(text) == 123_456
     with pytest.raises(ValueError, match="summary"):
         bench_instructions.summary_count("events: Ir\n")
-    # a run of 1 step and one of 11: 10 extra steps of 4 variants cost 40 x 1,500 instructions
-    assert bench_instructions.per_step(1_000_000, 1_060_000, 4, 11) == 1_500.0
+    # two runs of 1 step and one of 11: 10 extra steps of 4 variants cost 40 x 1,500 instructions
+    assert bench_instructions.per_step((999_980, 1_000_020), 1_060_000, 4, 11) == (1_500.0, 1.0)
 
 
 def test_instruction_benchmark_without_valgrind() -> None:
