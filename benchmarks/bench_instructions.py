@@ -33,19 +33,16 @@ import sys
 import tempfile
 from pathlib import Path
 
+from bench_engine import DT_S, PLANNERS, packed_batch
 from machine import header, machine, markdown_table
 
-PLANNERS = ("fsm", "none", "aeb", "predictive")
 REFERENCE = "reference"
-DT_S = 0.01
 
 
 def run_workload(workload: str, size: int, steps: int) -> None:
     """Child process: run one workload (a planner's compiled engine run, or the reference) once, single-threaded."""
     import numba
     import numpy as np
-
-    from bench_engine import packed_batch
 
     numba.set_num_threads(1)
     params = packed_batch(size, steps * DT_S, "fsm" if workload == REFERENCE else workload)
