@@ -81,15 +81,15 @@ def test_played_ego_is_drawn_where_the_trace_puts_it(browser, run_report, record
     player.scroll_into_view_if_needed()
     player.locator("select.speed").select_option("2")
     times = []
-    for target_s in (1.0, 2.5, 4.0):
+    for _ in range(3):  # each pause at least 1.02 s of play after the last (a loaded machine overshoots a target)
         player.locator("button.play").click()
-        wait_for_time(page, target_s)
+        wait_for_time(page, times[-1] + 1.02 if times else 0.3)
         player.locator("button.play").click()  # pause
         assert player.locator("button.play").get_attribute("aria-pressed") == "false"
         t, dx, dy = ego_on_screen_px(page, recording)
         times.append(t)
         assert abs(dx) <= 1.0 and abs(dy) <= 1.0, (t, dx, dy)
-    assert times[0] >= 1.0 and times[1] > times[0] + 1.0 and times[2] > times[1] + 1.0
+    assert times[0] >= 0.3 and times[1] > times[0] + 1.0 and times[2] > times[1] + 1.0
     x_m = float(np.interp(times[2], recording.t_s, recording.trace["ego_x_m"]))
     assert x_m > float(recording.trace["ego_x_m"][0]) + 30.0  # the ego did move across the panel
     follow = player.locator("input.follow")
