@@ -119,9 +119,17 @@ def project_point(path, offset, station, px, py, iterations):  # pragma: no cove
 def project_from(path, offset, station, x, y, tx, ty, k, px, py, iterations):  # pragma: no cover (compiled)
     """`project_point` starting at `station`, where the path's point, unit tangent and curvature
     (`locate_point`) are (x, y), (tx, ty) and k already: a projection that starts where another one ended
-    reuses its last evaluation (bit-identical to `project_point`)."""
+    reuses its last evaluation (bit-identical to `project_point`).
+
+    A step that leaves a positive station exactly where it is has reached a fixed point: every further step would
+    evaluate the same station again and end there, so the loop stops (exact: equal positive floats have the same
+    bits; a station of zero is not taken, as 0.0 == -0.0).
+    """
     for _ in range(iterations):
-        station = max(station + (px - x) * tx + (py - y) * ty, 0.0)
+        moved = max(station + (px - x) * tx + (py - y) * ty, 0.0)
+        if moved == station and moved > 0.0:
+            break
+        station = moved
         x, y, tx, ty, k = locate_point(path, offset, station)
     return station, x, y, tx, ty, k
 
