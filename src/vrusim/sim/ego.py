@@ -29,8 +29,11 @@ def rotated(hx, hy, angle):  # pragma: no cover (compiled)
     """(hx, hy) rotated by an angle (rad), not renormalised.
 
     Small angles (|angle| < 0.05 rad, every step of an ordinary run) use a 5th-order Taylor sine / cosine
-    (error < 1e-11); larger ones the exact functions.
+    (error < 1e-11); larger ones the exact functions. For an angle of ±0 the series gives cosine 1 and sine
+    `angle` exactly, which the first branch uses without evaluating it (the same bits).
     """
+    if angle == 0.0:
+        return hx - angle * hy, angle * hx + hy
     if abs(angle) < 0.05:
         a2 = angle * angle
         c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0))
@@ -202,7 +205,8 @@ def ego_variant(
     mx, my = rotate(hx[b], hy[b], 0.5 * turn)
     x[b] += distance * mx
     y[b] += distance * my
-    hx[b], hy[b] = rotate(hx[b], hy[b], turn)
+    # without a turn (±0, whose half has the same bits) the end heading is the mid-step one: rotated once
+    hx[b], hy[b] = (mx, my) if turn == 0.0 else rotate(hx[b], hy[b], turn)
     accel[b] = (v_new - v) / dt
     speed[b] = v_new
     actuator[b] = act
