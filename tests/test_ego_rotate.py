@@ -1,7 +1,6 @@
 """The ego's heading rotation (`vrusim.sim.ego.rotate`): its shortcuts give the very bits of the full computation,
-so the step's speed-up changes no result. A result that is already a unit vector is not renormalised; an angle of
-±0 skips the Taylor series; and the ego step, which rotates its heading by half the turn and by the whole turn,
-rotates once when the turn is ±0."""
+so the step's speed-up changes no result. A result that is already a unit vector is not renormalised, and an
+angle of ±0 skips the Taylor series."""
 
 from __future__ import annotations
 
@@ -67,9 +66,3 @@ components = st.one_of(st.sampled_from([0.0, -0.0, 1.0, -1.0]), st.floats(allow_
 @given(components, components, st.sampled_from([0.0, -0.0]))
 def test_a_zero_angle_gives_the_series_bits_signed_zeros_included(hx, hy, angle):
     assert bits(rotated(hx, hy, angle)) == bits(series(hx, hy, angle))
-
-
-@given(headings, st.sampled_from([0.0, -0.0]))
-def test_half_a_zero_turn_rotates_like_the_whole_turn(heading, turn):
-    """What `ego_variant` relies on to rotate once without a turn."""
-    assert bits(rotate(*heading, 0.5 * turn)) == bits(rotate(*heading, turn))

@@ -205,8 +205,7 @@ def ego_variant(
     mx, my = rotate(hx[b], hy[b], 0.5 * turn)
     x[b] += distance * mx
     y[b] += distance * my
-    # without a turn (±0, whose half has the same bits) the end heading is the mid-step one: rotated once
-    hx[b], hy[b] = (mx, my) if turn == 0.0 else rotate(hx[b], hy[b], turn)
+    hx[b], hy[b] = rotate(hx[b], hy[b], turn)
     accel[b] = (v_new - v) / dt
     speed[b] = v_new
     actuator[b] = act
