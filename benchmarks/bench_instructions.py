@@ -19,7 +19,8 @@ the same cruise speeds. Valgrind's virtual CPU is not this machine's, so Numba c
 (minutes, then cached beside the native ones) and their code differs slightly from the native code.
 
 The counts tell where a step's time goes: on this workload the engine and the reference retire about the same
-instructions per cycle, so their speed ratio is their instruction ratio (docs/architecture.md).
+instructions per cycle, so their speed ratio is about their instruction ratio. Instructions on a dependent chain
+(the route evaluations of a Newton projection) cost more than their share (docs/architecture.md).
 """
 
 from __future__ import annotations
