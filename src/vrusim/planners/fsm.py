@@ -29,7 +29,7 @@ from pydantic import Field
 from vrusim.kernels import batch_kernel, njit, prange
 from vrusim.planners.base import PlannerBase
 from vrusim.planners.conflict import new_tracks, track_and_analyse
-from vrusim.planners.params import validate_params
+from vrusim.planners.params import param_table, validate_params
 from vrusim.scenario.strict import StrictModel
 from vrusim.sim.compaction import take_members
 from vrusim.sim.observation import Observation
@@ -71,7 +71,7 @@ class FsmPlanner(PlannerBase):
     def reset(self, params: BatchParams) -> None:
         """Read per-variant parameters and start every variant in Cruise."""
         per_variant = planner_params(params)
-        self.table = np.array([[getattr(p, name) for name in PARAM_ORDER] for p in per_variant])
+        self.table = param_table(per_variant, PARAM_ORDER)
         self.zone_length = 2.0 * params.half_length_m + 2.0 * params.half_width_m
         self.mode = np.zeros(params.size, dtype=np.int8)
         self.tracks: np.ndarray | None = None

@@ -15,6 +15,7 @@ from vrusim.scenario.strict import error_message
 from vrusim.sim.params import BatchParams
 
 Model = TypeVar("Model", bound=BaseModel)
+_NOTHING = object()
 
 
 def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
@@ -23,9 +24,14 @@ def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
     Message: `<scenario>: planner.params.<field>: <reason>` ("unknown field" for a name the model lacks).
     Equal mappings are validated once and share one model (a sweep's variants mostly repeat the base's).
     """
-    out = []
+    out: list[Model] = []
     seen: dict[object, Model] = {}
+    previous: object = _NOTHING
     for name, given in zip(params.names, params.planner_params, strict=True):
+        if given is previous:  # the very mapping of the row before (a sweep's variants share their base's)
+            out.append(out[-1])
+            continue
+        previous = given
         key = _content_key(given)
         if key is not None and key in seen:
             out.append(seen[key])
@@ -54,7 +60,18 @@ def _content_key(given) -> object | None:
 
 
 def param_table(per_variant: Sequence[BaseModel], names: Sequence[str]) -> np.ndarray:
-    """Numeric parameters as a [B, len(names)] float table for compiled kernels (column j = names[j])."""
-    return np.array([[float(getattr(p, name)) for name in names] for p in per_variant], dtype=float).reshape(
-        len(per_variant), len(names)
-    )
+    """Numeric parameters as a [B, len(names)] float table for compiled kernels (column j = names[j]).
+
+    Each distinct model (by identity: `validate_params` shares one among equal mappings) is read once.
+    """
+    row_of: dict[int, int] = {}
+    models: list[BaseModel] = []
+    rows = np.empty(len(per_variant), dtype=np.intp)
+    for b, model in enumerate(per_variant):
+        row = row_of.get(id(model))
+        if row is None:
+            row = row_of[id(model)] = len(models)
+            models.append(model)
+        rows[b] = row
+    table = np.array([[float(getattr(p, name)) for name in names] for p in models], dtype=float)
+    return table.reshape(len(models), len(names))[rows]

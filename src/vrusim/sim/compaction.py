@@ -61,7 +61,7 @@ def take(obj: Any, index: np.ndarray) -> Any:
     if isinstance(obj, tuple) and hasattr(obj, "_fields"):  # a named tuple of per-variant arrays
         return type(obj)(*(take(value, index) for value in obj))
     if isinstance(obj, list):
-        return [obj[i] for i in index]
+        return [obj[i] for i in np.asarray(index).tolist()]
     raise TypeError(f"take: cannot compact a {type(obj).__name__}; declare it in its owner's `shared`")
 
 

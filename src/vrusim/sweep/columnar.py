@@ -93,7 +93,9 @@ class ColumnarPacker:
     def _bases_of(self, rows: Mapping[str, np.ndarray], select: np.ndarray) -> tuple[list[Scenario], np.ndarray]:
         """The distinct bases of the rows `select`, in order of first use, and each row's index into them."""
         tests = rows.get(TEST_COLUMN)
-        keys = [FILE_BASE] * select.size if tests is None else tests[select].tolist()
+        if tests is None:  # one scenario file: every row its base
+            return [self.bases[FILE_BASE]], np.zeros(select.size, dtype=np.int64)
+        keys = tests[select].tolist()
         order: dict[str, int] = {}
         index = np.array([order.setdefault(key, len(order)) for key in keys], dtype=np.int64)
         return [self.bases[key] for key in order], index
