@@ -369,3 +369,25 @@ def test_automatic_workers_run_compiled_batches_in_this_process(tmp_path):
 def test_automatic_workers_give_the_same_results(reference, tmp_path):
     run_sweep(load_spec(write_spec(tmp_path)), tmp_path / "out", workers=0)
     assert results(tmp_path / "out").equals(reference)
+
+
+def test_parquet_files_dictionary_encode_only_text_columns(tmp_path):
+    """Numbers are stored plainly (they rarely repeat; a dictionary only slows the write), text with a
+    dictionary, and the table reads back unchanged."""
+    import pyarrow.parquet as pq
+
+    from vrusim.sweep.store import write_parquet
+
+    table = pa.table(
+        {
+            "x": pa.array([1.5, 2.5, 1.5]),
+            "name": pa.array(["a", "b", "a"]),
+            "params": pa.array(['{"k": 1}', None, '{"k": 1}'], type=pa.large_string()),
+        }
+    )
+    write_parquet(table, tmp_path / "t.parquet")
+    columns = pq.ParquetFile(tmp_path / "t.parquet").metadata.row_group(0)
+    encodings = {columns.column(i).path_in_schema: columns.column(i).encodings for i in range(3)}
+    assert "RLE_DICTIONARY" not in encodings["x"]
+    assert "RLE_DICTIONARY" in encodings["name"] and "RLE_DICTIONARY" in encodings["params"]
+    assert pq.read_table(tmp_path / "t.parquet").equals(table)
