@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.compute as pc
+import pyarrow.parquet as pq
 import pytest
 import yaml
 
@@ -27,7 +28,7 @@ from vrusim.sweep.execute import cpu_count
 from vrusim.sweep.plan import VariantBuilder, make_plan
 from vrusim.sweep.runner import local_workers, preflight, run_sweep
 from vrusim.sweep.spec import load_spec
-from vrusim.sweep.store import SweepStore, chunk_name
+from vrusim.sweep.store import SweepStore, chunk_name, write_parquet
 
 SPEC = {
     "name": "test-sweep",
@@ -374,10 +375,6 @@ def test_automatic_workers_give_the_same_results(reference, tmp_path):
 def test_parquet_files_dictionary_encode_only_text_columns(tmp_path):
     """Numbers are stored plainly (they rarely repeat; a dictionary only slows the write), text with a
     dictionary, and the table reads back unchanged."""
-    import pyarrow.parquet as pq
-
-    from vrusim.sweep.store import write_parquet
-
     table = pa.table(
         {
             "x": pa.array([1.5, 2.5, 1.5]),

@@ -496,7 +496,7 @@ def _collect_transitions(metrics: RunMetrics, dt_s: float, buffers: tuple) -> No
     slots = np.arange(rows.size) - np.repeat(np.cumsum(counts) - counts, counts)
     order = np.lexsort((rows, steps[rows, slots]))
     rows, slots = rows[order], slots[order]
-    times = (steps[rows, slots] * dt_s).tolist()  # int64 * float64: the product of the float conversion, as step * dt_s
+    times = (steps[rows, slots] * dt_s).tolist()  # each step made a float and multiplied: Python's step * dt_s
     metrics.transitions.extend(
         zip(times, metrics._variant[rows].tolist(), olds[rows, slots].tolist(), news[rows, slots].tolist(), strict=True)
     )
