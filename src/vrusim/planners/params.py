@@ -15,7 +15,6 @@ from vrusim.scenario.strict import error_message
 from vrusim.sim.params import BatchParams
 
 Model = TypeVar("Model", bound=BaseModel)
-_NOTHING = object()
 
 
 def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
@@ -26,31 +25,34 @@ def validate_params(model: type[Model], params: BatchParams) -> list[Model]:
     """
     out: list[Model] = []
     seen: dict[object, Model] = {}
-    previous: object = _NOTHING
+    by_identity: dict[int, Model] = {}  # the same mapping object again (`take` repeats a sweep base's): no key built
     for name, given in zip(params.names, params.planner_params, strict=True):
-        if given is previous:  # the very mapping of the row before (a sweep's variants share their base's)
-            out.append(out[-1])
-            continue
-        previous = given
-        key = _content_key(given)
-        if key is not None and key in seen:
-            out.append(seen[key])
-            continue
-        try:
-            validated = model.model_validate(dict(given))
-        except ValidationError as error:
-            item = error.errors(include_url=False)[0]
-            where = field_path(("planner", "params", *item["loc"]))
-            raise UserInputError(f"{name}: {where}: {error_message(item)}") from None
-        out.append(validated)
-        if key is not None:
-            seen[key] = validated
+        found = by_identity.get(id(given))
+        if found is None:
+            key = _content_key(given)
+            found = seen.get(key) if key is not None else None
+            if found is None:
+                found = _validated(model, name, given)
+                if key is not None:
+                    seen[key] = found
+            by_identity[id(given)] = found
+        out.append(found)
     return out
+
+
+def _validated(model: type[Model], name: str, given) -> Model:
+    """`given` validated by `model`, or the UserInputError naming scenario `name` and the field."""
+    try:
+        return model.model_validate(dict(given))
+    except ValidationError as error:
+        item = error.errors(include_url=False)[0]
+        where = field_path(("planner", "params", *item["loc"]))
+        raise UserInputError(f"{name}: {where}: {error_message(item)}") from None
 
 
 def _content_key(given) -> object | None:
     """A hashable key equal only for mappings of equal names, value types and values; None when a value is not
-    hashable (such mappings are validated every time)."""
+    hashable (such mappings are validated once per mapping object)."""
     try:
         key = frozenset((name, type(value), value) for name, value in given.items())
         hash(key)
@@ -65,13 +67,7 @@ def param_table(per_variant: Sequence[BaseModel], names: Sequence[str]) -> np.nd
     Each distinct model (by identity: `validate_params` shares one among equal mappings) is read once.
     """
     row_of: dict[int, int] = {}
-    models: list[BaseModel] = []
-    rows = np.empty(len(per_variant), dtype=np.intp)
-    for b, model in enumerate(per_variant):
-        row = row_of.get(id(model))
-        if row is None:
-            row = row_of[id(model)] = len(models)
-            models.append(model)
-        rows[b] = row
+    rows = np.array([row_of.setdefault(id(p), len(row_of)) for p in per_variant], dtype=np.intp)
+    models = list({id(p): p for p in per_variant}.values())  # in order of first appearance, as `row_of`
     table = np.array([[float(getattr(p, name)) for name in names] for p in models], dtype=float)
     return table.reshape(len(models), len(names))[rows]
