@@ -19,12 +19,23 @@ imports numba's inliner. Best effort: with a numba whose inliner differs, its ow
 from __future__ import annotations
 
 import copy
-import types
 from typing import Any
 
 __all__ = ["install"]
 
 _installed = False
+
+
+class _NoDeepCopies:
+    """The `copy` module as numba's inliner sees it while it inlines fresh IR: `deepcopy` returns its argument,
+    everything else is the module's own."""
+
+    @staticmethod
+    def deepcopy(value: Any, memo: Any = None) -> Any:
+        return value
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(copy, name)
 
 
 def _patch_inliner() -> None:
@@ -45,14 +56,14 @@ def _patch_inliner() -> None:
     if inline_closurecall.copy is not copy:  # the inliner no longer copies through the module: leave it alone
         return
     package = __package__ or "vrusim"
-    no_copies = types.SimpleNamespace(copy=copy.copy, deepcopy=lambda value, memo=None: value, Error=copy.Error)
+    no_copies = _NoDeepCopies()
 
     def inline_function(self: Any, caller_ir: Any, block: Any, i: int, function: Any, arg_typs: Any = None) -> Any:
         if (getattr(function, "__module__", None) or "").partition(".")[0] != package:
             return numba_inline_function(self, caller_ir, block, i, function, arg_typs)
         callee_ir = self.run_untyped_passes(function)  # fresh: nothing else holds it
         inline_closurecall.copy = no_copies  # numba compiles under its global lock: no other thread is inlining
-        try:
+        try:  # the "unmutated original" it returns is then the inlined IR: InlineInlinables drops it
             return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars, arg_typs=arg_typs)
         finally:
             inline_closurecall.copy = copy
