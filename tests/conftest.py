@@ -5,6 +5,8 @@ from __future__ import annotations
 import copy
 import os
 import re
+import subprocess
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -164,3 +166,25 @@ else:
         if config.getvalue("dist") == "loadgroup":
             return _FixtureFileScheduling(config, log)
         return None
+
+
+# ------------------------------------------------------------------------------------- kernels compiled once
+# On a cold kernel cache (the first run after a source change, so every CI run) each worker would compile the
+# built-in planners' compiled steps itself, about 10-30 s each. The controller compiles them first, in two
+# processes at once (tests/compile_steps.py), before it starts the workers, which then load them from the cache.
+# On a warm cache the two processes only load them (about 1 s). Only for the whole suite (no test paths given):
+# a single file after a source change compiles what it uses.
+_COMPILED_STEPS = (("predictive", "aeb"), ("fsm", "none"))
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session: pytest.Session) -> None:
+    config = session.config
+    if hasattr(config, "workerinput") or not config.pluginmanager.has_plugin("dsession"):
+        return  # a worker, or a run without workers
+    if config.args_source != pytest.Config.ArgsSource.TESTPATHS:
+        return  # test paths or ids given
+    script = REPO_ROOT / "tests" / "compile_steps.py"
+    runs = [subprocess.Popen([sys.executable, str(script), *planners]) for planners in _COMPILED_STEPS]
+    for run in runs:
+        run.wait()  # a failure shows in the tests that use the kernel
