@@ -8,9 +8,8 @@ import sys
 import textwrap
 
 # A kernel that inlines vrusim helpers, some with helpers of their own (ttc_local -> _slab, rotate -> rotated),
-# and a helper of its own module, which keeps numba's inlining.
-# It prints the kernel's assembly, with the module name as the only line that may differ, and whether the
-# patch was installed.
+# and a helper of its own module, which keeps numba's inlining. It prints the kernel's assembly (without its
+# `.file` directive), its results, and whether the patch was installed.
 _COMPILE = textwrap.dedent(
     """
     import json, sys
