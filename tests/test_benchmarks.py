@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -96,3 +97,15 @@ def test_instruction_benchmark_without_valgrind(tmp_path: Path) -> None:
         capture_output=True, text=True, timeout=120, env={"PATH": str(tmp_path)},  # an empty folder: no valgrind
     )  # fmt: skip
     assert done.returncode == 2 and "valgrind is not on PATH" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_reference_layouts_substitute_every_setting_and_change_no_result() -> None:
+    import reference_layouts
+
+    kernel = reference_layouts.layout_source("settings").split("def fused_pedestrian", 1)[1]
+    assert not [name for name in reference_layouts.SETTINGS if re.search(rf"\b{name}\b", kernel)]
+    arrays = reference_layouts.layout_source("arrays").split("def fused_pedestrian", 1)[1]
+    assert "S[0][b]" in arrays and "X[0][b]" in arrays and "[b, " not in arrays
+    rows = reference_layouts.measure(batch=40, n_steps=400, repeats=1, parallel=False)  # serial: compiles faster
+    assert [row["layout"] for row in rows] == list(reference_layouts.LAYOUTS)
+    assert all(row["identical"] for row in rows)
