@@ -175,6 +175,8 @@ else:
 # On a warm cache the two processes only load them (about 1 s). Only for the whole suite (no test paths given):
 # a single file after a source change compiles what it uses.
 _COMPILED_STEPS = (("predictive", "aeb"), ("fsm", "none"))
+_WARM_UP_TIMEOUT_S = 600.0
+"""Longest the controller waits for a warm-up process (about 50 s on a cold cache here), s."""
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -187,4 +189,8 @@ def pytest_sessionstart(session: pytest.Session) -> None:
     script = REPO_ROOT / "tests" / "compile_steps.py"
     runs = [subprocess.Popen([sys.executable, str(script), *planners]) for planners in _COMPILED_STEPS]
     for run in runs:
-        run.wait()  # a failure shows in the tests that use the kernel
+        try:
+            run.wait(timeout=_WARM_UP_TIMEOUT_S)  # a failure shows in the tests that use the kernel
+        except subprocess.TimeoutExpired:
+            run.kill()  # the workers compile what they need themselves
+            run.wait()
