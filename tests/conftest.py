@@ -189,8 +189,13 @@ def pytest_sessionstart(session: pytest.Session) -> None:
     script = REPO_ROOT / "tests" / "compile_steps.py"
     runs = [subprocess.Popen([sys.executable, str(script), *planners]) for planners in _COMPILED_STEPS]
     for run in runs:
-        try:
-            run.wait(timeout=_WARM_UP_TIMEOUT_S)  # a failure shows in the tests that use the kernel
-        except subprocess.TimeoutExpired:
-            run.kill()  # the workers compile what they need themselves
-            run.wait()
+        wait_or_kill(run, _WARM_UP_TIMEOUT_S)  # a failure shows in the tests that use the kernel
+
+
+def wait_or_kill(run: subprocess.Popen, timeout_s: float) -> None:
+    """Wait for `run` at most `timeout_s`, then kill it (the workers compile what they need themselves)."""
+    try:
+        run.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        run.kill()
+        run.wait()
