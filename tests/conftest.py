@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import os
 import re
+import signal
 import subprocess
 import sys
 from collections.abc import Callable
@@ -170,13 +172,13 @@ else:
 
 # ------------------------------------------------------------------------------------- kernels compiled once
 # On a cold kernel cache (the first run after a source change, so every CI run) each worker would compile the
-# built-in planners' compiled steps itself, about 10-30 s each. The controller compiles them first, in two
-# processes at once (tests/compile_steps.py), before it starts the workers, which then load them from the cache.
-# On a warm cache the two processes only load them (about 1 s). Only for the whole suite (no test paths given):
+# built-in planners' compiled steps itself, about 20-30 s each. The controller compiles them first with
+# `vrusim compile --part compiled` (two processes at once), before it starts the workers, which then load them
+# from the cache. On a warm cache it only loads them (about 3 s). Only for the whole suite (no test paths given):
 # a single file after a source change compiles what it uses.
-_COMPILED_STEPS = (("predictive", "aeb"), ("fsm", "none"))
+WARM_UP = [sys.executable, "-m", "vrusim", "compile", "--part", "compiled", "--jobs", "2"]
 _WARM_UP_TIMEOUT_S = 600.0
-"""Longest the controller waits for a warm-up process (about 50 s on a cold cache here), s."""
+"""Longest the controller waits for the warm-up (about 50 s on a cold cache here), s."""
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -186,16 +188,16 @@ def pytest_sessionstart(session: pytest.Session) -> None:
         return  # a worker, or a run without workers
     if config.args_source != pytest.Config.ArgsSource.TESTPATHS:
         return  # test paths or ids given
-    script = REPO_ROOT / "tests" / "compile_steps.py"
-    runs = [subprocess.Popen([sys.executable, str(script), *planners]) for planners in _COMPILED_STEPS]
-    for run in runs:
-        wait_or_kill(run, _WARM_UP_TIMEOUT_S)  # a failure shows in the tests that use the kernel
+    run = subprocess.Popen(WARM_UP, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    wait_or_kill(run, _WARM_UP_TIMEOUT_S)  # a failure shows in the tests that use the kernels
 
 
 def wait_or_kill(run: subprocess.Popen, timeout_s: float) -> None:
-    """Wait for `run` at most `timeout_s`, then kill it (the workers compile what they need themselves)."""
+    """Wait for `run` (started in a session of its own) at most `timeout_s`, then kill it and every process of
+    its session (`vrusim compile`'s worker processes; the suite's workers then compile what they need)."""
     try:
         run.wait(timeout=timeout_s)
     except subprocess.TimeoutExpired:
-        run.kill()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(run.pid, signal.SIGKILL)
         run.wait()

@@ -77,6 +77,7 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
     assert report["import_changed_env"] is False
     assert report["resolve_changed_env"] is False  # the API's imports (numba's cache setting included) neither
     assert report["names"] == {
+        "CompileReport": "type",
         "Metric": "type",
         "NcapResults": "type",
         "NcapResults2026": "type",
@@ -85,6 +86,7 @@ def test_import_vrusim_changes_no_environment_and_writes_nothing(tmp_path):
         "SweepFolder": "type",
         "UserInputError": "type",
         "__version__": "str",
+        "compile_kernels": "function",
         "euro_ncap": "function",
         "load": "function",
         "open_sweep": "function",
@@ -442,3 +444,4 @@ def test_the_example_notebook_runs(tmp_path, monkeypatch):
     assert "NcapResults2026(30 tests, planner aeb, V2X off: FC Pedestrian & Cyclist 0.54)" in text
     assert "Spread(mean=" in text
     assert "SweepFolder(" in text and "6 of 6 variants finished" in text
+    assert "['compiled (fsm)']" in text

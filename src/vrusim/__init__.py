@@ -16,10 +16,12 @@ from vrusim.version import __version__
 
 if _typing.TYPE_CHECKING:
     from vrusim.api import (
+        CompileReport,
         NcapResults,
         NcapResults2026,
         Results,
         SweepFolder,
+        compile_kernels,
         euro_ncap,
         load,
         open_sweep,
@@ -33,6 +35,7 @@ if _typing.TYPE_CHECKING:
     from vrusim.sim.vru.registry import register_vru_motion, unregister_vru_motion
 
 __all__ = [
+    "CompileReport",
     "Metric",
     "NcapResults",
     "NcapResults2026",
@@ -41,6 +44,7 @@ __all__ = [
     "SweepFolder",
     "UserInputError",
     "__version__",
+    "compile_kernels",
     "euro_ncap",
     "load",
     "open_sweep",

@@ -15,14 +15,17 @@ import typing as _typing
 
 if _typing.TYPE_CHECKING:
     from vrusim.api.assessing import NcapResults, NcapResults2026, euro_ncap
+    from vrusim.api.compiling import CompileReport, compile_kernels
     from vrusim.api.running import Results, load, run
     from vrusim.api.sweeping import SweepFolder, open_sweep, run_sweep
 
 __all__ = [
+    "CompileReport",
     "NcapResults",
     "NcapResults2026",
     "Results",
     "SweepFolder",
+    "compile_kernels",
     "euro_ncap",
     "load",
     "open_sweep",
@@ -31,6 +34,8 @@ __all__ = [
 ]
 
 _HOME = {
+    "CompileReport": "vrusim.api.compiling",
+    "compile_kernels": "vrusim.api.compiling",
     "NcapResults": "vrusim.api.assessing",
     "NcapResults2026": "vrusim.api.assessing",
     "euro_ncap": "vrusim.api.assessing",

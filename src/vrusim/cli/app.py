@@ -1,7 +1,7 @@
 """The `vrusim` command line: the Typer app, its commands (one module each) and the console-script entry point.
 
     vrusim run SOURCE [--planner NAME] [--v2x on|off] [--seed N] [--json] [--trace|--plot|--animate OUT]
-    vrusim paper | ncap | list | compare | sweep | summarize | report | view | export | import | examples
+    vrusim paper | ncap | list | compare | sweep | summarize | report | view | export | import | examples | compile
     (`vrusim CMD --help` for each)
     vrusim --version
 
@@ -20,6 +20,7 @@ from typing import Annotated
 import typer
 
 from vrusim.cli.compare import compare_command
+from vrusim.cli.compile import compile_command
 from vrusim.cli.examples import examples_command
 from vrusim.cli.export import export_command
 from vrusim.cli.help import Command, Group
@@ -50,6 +51,7 @@ COMMANDS: dict[str, Callable[..., None]] = {
     "export": export_command,
     "import": import_command,
     "examples": examples_command,
+    "compile": compile_command,
 }
 """Every command by name, in the order `vrusim --help` lists them."""
 

@@ -1,0 +1,130 @@
+"""`vrusim compile` / `vrusim.compile_kernels`: kernels compiled ahead of time are the ones later commands load,
+bad arguments are user errors, and the test suite's own warm-up (tests/conftest.py) uses the command."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from cli_helpers import assert_user_error, invoke
+from conftest import WARM_UP, wait_or_kill
+from vrusim.api.compiling import COMPILED_STEP_PLANNERS, PARTS, CompileTask, compile_kernels, compile_tasks
+from vrusim.engine.compiled_run import COMPILED_PLANNERS
+from vrusim.errors import UserInputError
+
+
+def test_tasks_cover_each_part_of_each_planner_longest_first():
+    assert compile_tasks(["fsm", "acpe"], PARTS) == [
+        CompileTask(("compiled", "ncap"), "fsm"),  # the grids after the compiled step they use
+        CompileTask(("ncap",), "acpe"),  # acpe has no compiled step
+        CompileTask(("per-step",), "fsm"),
+        CompileTask(("per-step",), "acpe"),
+    ]
+    assert compile_tasks(["aeb"], ["per-step", "compiled"]) == [
+        CompileTask(("compiled",), "aeb"),
+        CompileTask(("per-step",), "aeb"),
+    ]
+    assert CompileTask(("compiled", "ncap"), "fsm").name == "compiled + ncap (fsm)"
+    assert set(COMPILED_STEP_PLANNERS) == set(COMPILED_PLANNERS.values())
+
+
+@pytest.mark.parametrize(
+    ("args", "names"),
+    [
+        (["--planner", "fsm,nope"], ["--planner", "'nope'", "fsm, none"]),
+        (["--planner", "mypkg.mod:Planner"], ["--planner", "plug-in"]),
+        (["--part", "compiled,everything"], ["--part", "'everything'", "compiled, ncap, per-step"]),
+        (["--jobs", "0"], ["--jobs", ">= 1", "0"]),
+        (["--planner", "dow", "--part", "compiled"], ["--part", "nothing to compile", "dow"]),
+    ],
+)
+def test_bad_arguments_are_user_errors(args, names):
+    assert_user_error(invoke("compile", *args), *names)
+
+
+@pytest.mark.parametrize(("jobs", "text"), [(-1, ">= 1"), (1.5, "whole number"), (True, "whole number")])
+def test_the_api_refuses_a_bad_job_count(jobs, text):
+    with pytest.raises(UserInputError, match=text):
+        compile_kernels(jobs=jobs)
+
+
+def _cold_env(cache: Path) -> dict[str, str]:
+    return {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+
+
+def test_a_command_after_compile_compiles_nothing(tmp_path):
+    """On an empty kernel cache: `vrusim compile` of the per-step path, then a run with a trace (the per-step
+    path) says nothing about compiling; without the compile it does."""
+    cache = tmp_path / "kernels"
+    command = [sys.executable, "-m", "vrusim"]
+    trace = ["run", "paper:pedestrian", "--planner", "none", "--json", "--trace", str(tmp_path / "trace.csv")]
+    compiled = subprocess.run(
+        [*command, "compile", "--planner", "none", "--part", "per-step", "--jobs", "1", "--json"],
+        env=_cold_env(cache),
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert compiled.returncode == 0, compiled.stderr
+    report = json.loads(compiled.stdout)
+    assert report["folder"] == str(cache)
+    assert list(report["tasks_s"]) == ["per-step (none)"]
+    assert "vrusim: [1/1] per-step (none) ready in" in compiled.stderr
+    assert any(cache.rglob("*.nbc"))
+
+    after = subprocess.run([*command, *trace], env=_cold_env(cache), capture_output=True, text=True, timeout=600)
+    assert after.returncode == 0, after.stderr
+    assert "compil" not in after.stderr
+
+    cold = subprocess.run(
+        [*command, *trace], env=_cold_env(tmp_path / "other"), capture_output=True, text=True, timeout=600
+    )
+    assert cold.returncode == 0, cold.stderr
+    assert "compiling the simulation kernels" in cold.stderr  # the check above can fail
+    assert json.loads(cold.stdout) == json.loads(after.stdout)
+
+
+def test_the_suite_warm_up_compiles_every_compiled_step():
+    """The controller's warm-up (tests/conftest.py) is `vrusim compile --part compiled`: every built-in planner's
+    compiled step, loaded from the cache here."""
+    done = subprocess.run([*WARM_UP, "--json"], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    ran = json.loads(done.stdout)["tasks_s"]
+    assert sorted(ran) == sorted(f"compiled ({planner})" for planner in COMPILED_PLANNERS.values())
+
+
+_SPAWNS_A_SLEEPER = """
+import subprocess, sys, time
+child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
+print(child.pid, flush=True)
+time.sleep(600)
+"""
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+    return state != "Z"  # a zombie has ended (nobody reaped it yet)
+
+
+def test_a_warm_up_that_hangs_is_killed_after_its_timeout_with_its_children():
+    run = subprocess.Popen(
+        [sys.executable, "-c", _SPAWNS_A_SLEEPER], stdout=subprocess.PIPE, text=True, start_new_session=True
+    )
+    child = int(run.stdout.readline())
+    assert _running(child)
+    wait_or_kill(run, 0.5)
+    run.stdout.close()
+    assert run.returncode is not None and run.returncode < 0  # killed by a signal, not finished
+    deadline = time.monotonic() + 10.0
+    while _running(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _running(child)
