@@ -54,6 +54,13 @@ def test_the_api_refuses_a_bad_job_count(jobs, text):
         compile_kernels(jobs=jobs)
 
 
+def test_the_api_takes_one_name_as_a_string():
+    with pytest.raises(UserInputError, match="got 'nope'"):
+        compile_kernels("nope")
+    with pytest.raises(UserInputError, match="nothing to compile for compiled with dow"):
+        compile_kernels("dow", "compiled")
+
+
 def _cold_env(cache: Path) -> dict[str, str]:
     return {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
 

@@ -6,7 +6,8 @@ ncap --night` about 30 s, on this project's 2-core VM) and keeps them in the ker
 where it costs nothing: a container image's build, a CI job's cache step, an install script.
 
 Numba compiles a kernel for the argument types it is first called with, so kernels are compiled by running what
-uses them, briefly, as the commands do. Each planner's work is one task, in processes of their own:
+uses them, briefly, as the commands do. Each planner has up to three parts, run as tasks in a pool of processes
+(its grids after its compiled step, in the same process, as they use it):
 
 - `compiled`: the planner's compiled step (`vrusim run`, `paper`, `sweep`, `ncap` without drivers or doors), on
   every bundled scenario for two steps with V2X on;
@@ -126,6 +127,8 @@ def run_task(task: CompileTask) -> float:
 def _checked(planners: Sequence[str] | None, parts: Sequence[str] | None, jobs: int | None) -> tuple:
     from vrusim.planners.registry import BUILTIN_PLANNERS
 
+    planners = [planners] if isinstance(planners, str) else planners
+    parts = [parts] if isinstance(parts, str) else parts
     planners = list(COMPILED_STEP_PLANNERS if planners is None else dict.fromkeys(planners))
     for name in planners:
         if name not in BUILTIN_PLANNERS:
@@ -155,10 +158,11 @@ def compile_kernels(
 ) -> CompileReport:
     """Compile (or load, when cached) the kernels that `planners` use in `parts`, in `jobs` processes at once.
 
-    `planners`: built-in planner names (default: the four with a compiled step: fsm, none, aeb, predictive).
-    `parts`: some of "compiled", "ncap", "per-step" (default: all). `jobs`: processes (default: the cores this
-    process may use). `on_start(tasks, processes)` is called before the first task starts, `on_done(task,
-    seconds, done, total)` as each task ends. Bad arguments raise UserInputError; a task that fails raises its
+    `planners`: built-in planner names, or one (default: the four with a compiled step: fsm, none, aeb,
+    predictive). `parts`: some of "compiled", "ncap", "per-step", or one (default: all). `jobs`: processes
+    (default: the cores this process may use). `on_start(tasks, processes)` is called before the first task
+    starts, `on_done(task, seconds, done, total)` as each task ends. Bad arguments raise UserInputError; a task
+    that fails raises its
     error.
     """
     planners, parts, jobs = _checked(planners, parts, jobs)
