@@ -162,8 +162,7 @@ def compile_kernels(
     predictive). `parts`: some of "compiled", "ncap", "per-step", or one (default: all). `jobs`: processes
     (default: the cores this process may use). `on_start(tasks, processes)` is called before the first task
     starts, `on_done(task, seconds, done, total)` as each task ends. Bad arguments raise UserInputError; a task
-    that fails raises its
-    error.
+    that fails raises its error.
     """
     planners, parts, jobs = _checked(planners, parts, jobs)
     tasks = compile_tasks(planners, parts)
