@@ -154,8 +154,10 @@ def test_sigkill_then_resume_gives_every_variant_exactly_once(reference, tmp_pat
     assert not list(store.chunks.glob(".*"))  # no temporary file left
 
 
-def test_ctrl_c_stops_cleanly_and_resume_finishes(reference, tmp_path):
-    spec = write_spec(tmp_path, batch_size=4)
+def test_ctrl_c_stops_cleanly_and_resume_finishes(tmp_path):
+    # one variant a batch, 300 batches: seconds of work, so the signal cannot come after the last one (30 batches
+    # of 4 once ended in 0.2 s, before it)
+    spec = write_spec(tmp_path, batch_size=1, samples=100)
     out = tmp_path / "out"
     process = subprocess.Popen(
         sweep_command(spec, "--out", out, "--workers", "1", "--quiet"), stderr=subprocess.PIPE, text=True
@@ -168,9 +170,12 @@ def test_ctrl_c_stops_cleanly_and_resume_finishes(reference, tmp_path):
     _, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
     assert "continue with --resume" in stderr and "Traceback" not in stderr
-    assert len(store.finished()) < 30
+    assert len(store.finished()) < 300
     run_sweep(None, out, resume=True)
-    assert results(out).equals(reference)
+    uninterrupted = tmp_path / "uninterrupted"
+    run_sweep(load_spec(spec), uninterrupted, workers=1, batch_size=100)
+    assert results(out).num_rows == 300
+    assert results(out).equals(results(uninterrupted))
 
 
 def test_a_dying_worker_is_replaced_and_its_batch_rerun(tmp_path):
