@@ -14,12 +14,14 @@ from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any, TextIO
 
-__all__ = ["attach", "compile_notices"]
+__all__ = ["attach", "compile_notices", "note_uncached"]
 
 _stream: TextIO | None = None
 """Where notices go while some `compile_notices` block is open; None: nowhere."""
 _listener: Any = None
 """The numba listener registered for `_stream`, once numba is loaded."""
+_uncached = False
+"""True when kernels compile without a cache (`vrusim.kernels`: no writable cache folder)."""
 
 
 class _Notices:
@@ -50,10 +52,16 @@ class _Notices:
             import numba
 
             folder = numba.config.CACHE_DIR or "numba's cache folders"
-            self._say(
-                "compiling the simulation kernels: the first run of this version takes up to a minute; later "
-                f"runs load them from {folder}"
-            )
+            if _uncached:
+                self._say(
+                    "compiling the simulation kernels, up to a minute: no cache folder could be written, so every "
+                    "run compiles them (set NUMBA_CACHE_DIR to a writable folder to keep them)"
+                )
+            else:
+                self._say(
+                    "compiling the simulation kernels: the first run of this version takes up to a minute; later "
+                    f"runs load them from {folder}"
+                )
 
     def on_end(self, event: Any) -> None:
         self.depth -= 1
@@ -68,6 +76,12 @@ class _Notices:
             f"compiled kernel {self.compiled} ({name}) in {now - self.kernel_start:.1f} s, "
             f"{now - self.first_start:.0f} s so far"
         )
+
+
+def note_uncached() -> None:
+    """Say, in the notices, that kernels are not cached: every run compiles them."""
+    global _uncached
+    _uncached = True
 
 
 def attach() -> None:

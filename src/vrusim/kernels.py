@@ -12,7 +12,9 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import stat
 import sys
+import tempfile
 import time
 import types
 from collections.abc import Callable
@@ -20,10 +22,11 @@ from pathlib import Path
 
 import numba
 import platformdirs
-from numba import njit, prange
+from numba import prange
 
 from vrusim import kernel_inlining
 from vrusim.kernel_notices import attach as attach_compile_notices
+from vrusim.kernel_notices import note_uncached
 from vrusim.version import source_digest
 
 __all__ = ["PARALLEL_MIN_BATCH", "BatchKernel", "batch_kernel", "kernel_cache_folder", "njit", "prange"]
@@ -33,10 +36,35 @@ KERNEL_CACHE_UNUSED_DAYS = 7
 
 
 def kernel_cache_folder() -> Path | None:
-    """Where numba keeps this source version's compiled kernels; None when the user chose (NUMBA_CACHE_DIR)."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
+    """Where numba keeps this source version's compiled kernels (`_configure_kernel_cache`); None when the user
+    chose (NUMBA_CACHE_DIR), or when no folder could be written (every process then compiles the kernels it
+    uses)."""
+    return _cache_folder
+
+
+def _writable(folder: Path) -> bool:
+    """Whether `folder` exists or can be made, and takes a file (numba's own test of a cache folder)."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        tempfile.TemporaryFile(dir=folder).close()
+    except OSError:
+        return False
+    return True
+
+
+def _private_temporary_folder() -> Path | None:
+    """`<temporary folder>/vrusim-<user id>`, made if missing, if only this user can write it (cached kernels
+    are pickled code: another user's files must never be loaded); None otherwise."""
+    if not hasattr(os, "getuid"):
         return None
-    return Path(platformdirs.user_cache_dir("vrusim", appauthor=False)) / "kernels" / source_digest()[:16]
+    folder = Path(tempfile.gettempdir()) / f"vrusim-{os.getuid()}"
+    try:
+        folder.mkdir(mode=0o700, exist_ok=True)
+        status = folder.lstat()
+    except OSError:
+        return None
+    private = stat.S_ISDIR(status.st_mode) and status.st_uid == os.getuid() and not status.st_mode & 0o022
+    return folder if private else None
 
 
 def _configure_kernel_cache() -> None:
@@ -48,12 +76,41 @@ def _configure_kernel_cache() -> None:
     `KERNEL_CACHE_UNUSED_DAYS` are deleted (using a folder refreshes its time stamp). Runs once, when this module
     is first imported, before any kernel compiles; numba's own setting is changed, not the process environment,
     so child processes choose the same folder the same way.
+
+    The folder is the user's cache folder (`platformdirs`), or, when that cannot be written (a read-only or
+    missing home, as in some containers), the same under a private folder in the temporary folder. When neither
+    can be written the kernels are compiled without caching (`njit` drops `cache=True`): numba's other places
+    (the package's own `__pycache__`, its user-wide folder) are not keyed by the source hash, and without any it
+    would refuse to compile.
     """
-    folder = kernel_cache_folder()
-    if folder is None:
+    global _cache_folder, _caching
+    if os.environ.get("NUMBA_CACHE_DIR"):
         return
+    digest = source_digest()[:16]
+    folder = Path(platformdirs.user_cache_dir("vrusim", appauthor=False)) / "kernels" / digest
+    if not _writable(folder):
+        private = _private_temporary_folder()
+        folder = private / "kernels" / digest if private is not None else None
+        if folder is None or not _writable(folder):
+            _caching = False
+            note_uncached()
+            return
+    _cache_folder = folder
     numba.config.CACHE_DIR = str(folder)
     prune_kernel_caches(folder.parent, keep=folder.name)
+
+
+_cache_folder: Path | None = None
+"""This source version's kernel cache folder (`kernel_cache_folder`)."""
+_caching = True
+"""False when no cache folder could be written: kernels then compile without numba's cache."""
+
+
+def njit(*args, **options):
+    """`numba.njit`, with `cache=True` dropped when no kernel cache folder could be written."""
+    if not _caching:
+        options.pop("cache", None)
+    return numba.njit(*args, **options)
 
 
 def prune_kernel_caches(root: Path, keep: str, unused_days: float = KERNEL_CACHE_UNUSED_DAYS) -> None:
