@@ -61,6 +61,18 @@ def test_the_api_takes_one_name_as_a_string():
         compile_kernels("dow", "compiled")
 
 
+def test_compile_without_a_writable_cache_folder_is_a_user_error(tmp_path):
+    not_a_folder = tmp_path / "file"
+    not_a_folder.write_text("x")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(not_a_folder / "kernels")}
+    done = subprocess.run(
+        [sys.executable, "-m", "vrusim", "compile"], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 2, done.stderr
+    assert "NUMBA_CACHE_DIR" in done.stderr and "writable folder" in done.stderr
+    assert "Traceback" not in done.stderr and done.stdout == ""
+
+
 def _cold_env(cache: Path) -> dict[str, str]:
     return {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
 

@@ -36,11 +36,11 @@ print(json.dumps({
 """
 
 
-def _probe(tmp_path: Path, cache_home: Path) -> dict:
+def _probe(tmp_path: Path, cache_home: Path, **env: str) -> dict:
     """The probe in a fresh process whose cache home is `cache_home` and temporary folder `tmp_path / "tmp"`."""
     temporary = tmp_path / "tmp"
     temporary.mkdir(exist_ok=True)
-    env = {key: value for key, value in os.environ.items() if key != "NUMBA_CACHE_DIR"}
+    env = {key: value for key, value in os.environ.items() if key != "NUMBA_CACHE_DIR"} | env
     env |= {"XDG_CACHE_HOME": str(cache_home), "TMPDIR": str(temporary), "PYTHONPATH": str(SRC)}
     probe = tmp_path / "probe.py"  # a file: numba caches only functions with a source file
     probe.write_text(_PROBE)
@@ -93,3 +93,19 @@ def test_a_temporary_folder_that_is_not_private_is_not_used(tmp_path, planted):
     assert not report["cached"] and report["notice_says_uncached"]
     assert report["result"] == 3.0
     assert not list(tmp_path.rglob("*.nbi"))  # nowhere: not in the probe's own __pycache__ either
+
+
+def test_a_numba_cache_dir_that_cannot_be_written_compiles_uncached(tmp_path):
+    not_a_folder = tmp_path / "file"
+    not_a_folder.write_text("x")
+    report = _probe(tmp_path, tmp_path / "cache", NUMBA_CACHE_DIR=str(not_a_folder / "kernels"))
+    assert report["folder"] is None and report["numba_folder"] == str(not_a_folder / "kernels")
+    assert not report["cached"] and report["notice_says_uncached"] and report["result"] == 3.0
+    assert not list(tmp_path.rglob("*.nbi"))
+
+
+def test_a_numba_cache_dir_that_can_be_written_is_used(tmp_path):
+    report = _probe(tmp_path, tmp_path / "cache", NUMBA_CACHE_DIR=str(tmp_path / "chosen"))
+    assert report["folder"] is None and report["numba_folder"] == str(tmp_path / "chosen")
+    assert report["cached"] and not report["notice_says_uncached"]
+    assert any((tmp_path / "chosen").rglob("*.nbi"))

@@ -29,7 +29,15 @@ from vrusim.kernel_notices import attach as attach_compile_notices
 from vrusim.kernel_notices import note_uncached
 from vrusim.version import source_digest
 
-__all__ = ["PARALLEL_MIN_BATCH", "BatchKernel", "batch_kernel", "kernel_cache_folder", "njit", "prange"]
+__all__ = [
+    "PARALLEL_MIN_BATCH",
+    "BatchKernel",
+    "batch_kernel",
+    "kernel_cache_folder",
+    "kernels_cached",
+    "njit",
+    "prange",
+]
 
 KERNEL_CACHE_UNUSED_DAYS = 7
 """A kernel cache folder of another source version that has not been used for this long is deleted, days."""
@@ -40,6 +48,11 @@ def kernel_cache_folder() -> Path | None:
     chose (NUMBA_CACHE_DIR), or when no folder could be written (every process then compiles the kernels it
     uses)."""
     return _cache_folder
+
+
+def kernels_cached() -> bool:
+    """Whether compiled kernels are kept in a cache folder (False: none could be written)."""
+    return _caching
 
 
 def _writable(folder: Path) -> bool:
@@ -71,7 +84,8 @@ def _configure_kernel_cache() -> None:
     """Keep compiled kernels in a cache folder keyed by a hash of this package's source.
 
     Numba checks only a kernel's own file when reusing cached machine code; kernels inline helpers from other
-    modules, so a change there could otherwise run stale code. A user-set NUMBA_CACHE_DIR is respected.
+    modules, so a change there could otherwise run stale code. A user-set NUMBA_CACHE_DIR is respected (and, if
+    it cannot be written, kernels compile uncached, as below).
     Every source edit thus starts a new folder; folders of other versions unused for
     `KERNEL_CACHE_UNUSED_DAYS` are deleted (using a folder refreshes its time stamp). Runs once, when this module
     is first imported, before any kernel compiles; numba's own setting is changed, not the process environment,
@@ -84,7 +98,11 @@ def _configure_kernel_cache() -> None:
     would refuse to compile.
     """
     global _cache_folder, _caching
-    if os.environ.get("NUMBA_CACHE_DIR"):
+    chosen = os.environ.get("NUMBA_CACHE_DIR")
+    if chosen:
+        if not _writable(Path(chosen)):
+            _caching = False
+            note_uncached()
         return
     digest = source_digest()[:16]
     folder = Path(platformdirs.user_cache_dir("vrusim", appauthor=False)) / "kernels" / digest

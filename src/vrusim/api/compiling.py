@@ -165,6 +165,13 @@ def compile_kernels(
     that fails raises its error.
     """
     planners, parts, jobs = _checked(planners, parts, jobs)
+    from vrusim.kernels import kernels_cached
+
+    if not kernels_cached():
+        raise UserInputError(
+            "NUMBA_CACHE_DIR: no folder to keep compiled kernels in can be written (the user's cache folder, a "
+            "private temporary one, or NUMBA_CACHE_DIR as set); set NUMBA_CACHE_DIR to a writable folder"
+        )
     tasks = compile_tasks(planners, parts)
     if not tasks:
         raise UserInputError(
