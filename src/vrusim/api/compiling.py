@@ -13,8 +13,10 @@ uses them, briefly, as the commands do. Each planner has up to three parts, run 
   every bundled scenario for two steps with V2X on;
 - `ncap`: the Euro NCAP grids of both editions, day and night, as `vrusim ncap` runs them (their drivers, doors,
   occluding obstacles and contact probes use kernels of their own);
-- `per-step`: the per-step path (traces, `vrusim run --trace/--plot/--animate`, plug-in planners), serial and
-  multi-threaded (`vrusim.kernels.PARALLEL_MIN_BATCH` variants or more), on the bundled scenarios for two steps.
+- `per-step`: the per-step path (traces, `vrusim run --trace/--plot/--animate`, plug-in planners), on the bundled
+  scenarios for two steps;
+- `threaded`: the per-step path's multi-threaded kernels, which batches of `vrusim.kernels.PARALLEL_MIN_BATCH`
+  variants or more run (a plug-in planner's large batches), on that many copies of them.
 
 On a warm cache every task only loads its kernels (about a second each).
 """
@@ -32,7 +34,7 @@ from dataclasses import dataclass
 from vrusim.engine.compiled_run import COMPILED_PLANNERS
 from vrusim.errors import UserInputError
 
-PARTS = ("compiled", "ncap", "per-step")
+PARTS = ("compiled", "ncap", "per-step", "threaded")
 """What `compile_kernels` can compile, in the order tasks start (the longest first)."""
 COMPILED_STEP_PLANNERS = tuple(COMPILED_PLANNERS.values())
 """The planners with a compiled step (fsm, none, aeb, predictive): the default planners."""
@@ -74,7 +76,8 @@ def compile_tasks(planners: Sequence[str], parts: Sequence[str]) -> list[Compile
             if part in parts and (part == "ncap" or planner in COMPILED_STEP_PLANNERS)
         )
         tasks += [CompileTask(first, planner)] if first else []
-    return tasks + [CompileTask(("per-step",), planner) for planner in planners if "per-step" in parts]
+    per_step = tuple(part for part in ("per-step", "threaded") if part in parts)
+    return tasks + ([CompileTask(per_step, planner) for planner in planners] if per_step else [])
 
 
 def _warm_up_scenarios(planner: str) -> list:
@@ -115,12 +118,13 @@ def run_task(task: CompileTask) -> float:
 
             for protocol in ("2026", "2023"):
                 euro_ncap(planner=task.planner, night=True, protocol=protocol)
+        elif part == "per-step":
+            _run_briefly(_warm_up_scenarios(task.planner), trace=True)
         else:
             from vrusim.kernels import PARALLEL_MIN_BATCH
 
             scenarios = _warm_up_scenarios(task.planner)
-            _run_briefly(scenarios, trace=True)  # the serial per-step kernels
-            _run_briefly(scenarios * -(-PARALLEL_MIN_BATCH // len(scenarios)), compiled=False)  # the threaded ones
+            _run_briefly(scenarios * -(-PARALLEL_MIN_BATCH // len(scenarios)), compiled=False)
     return time.perf_counter() - started
 
 
@@ -159,7 +163,7 @@ def compile_kernels(
     """Compile (or load, when cached) the kernels that `planners` use in `parts`, in `jobs` processes at once.
 
     `planners`: built-in planner names, or one (default: the four with a compiled step: fsm, none, aeb,
-    predictive). `parts`: some of "compiled", "ncap", "per-step", or one (default: all). `jobs`: processes
+    predictive). `parts`: some of "compiled", "ncap", "per-step", "threaded", or one (default: all). `jobs`: processes
     (default: the cores this process may use). `on_start(tasks, processes)` is called before the first task
     starts, `on_done(task, seconds, done, total)` as each task ends. Bad arguments raise UserInputError; a task
     that fails raises its error.

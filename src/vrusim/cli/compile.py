@@ -35,8 +35,9 @@ def compile_command(
             "--part",
             metavar="PART",
             help="What to compile: compiled (the compiled step: run, paper, sweep), ncap (the Euro NCAP grids' "
-            "drivers, doors, obstacles and probes), per-step (traces, plots, animations, plug-in planners). "
-            "Repeatable, or a comma list. Default: all three.",
+            "drivers, doors, obstacles and probes), per-step (traces, plots, animations, plug-in planners), "
+            "threaded (the per-step path's batches of 4,096 variants or more). Repeatable, or a comma list. "
+            "Default: all four.",
             show_default=False,
         ),
     ] = None,
