@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -18,27 +18,29 @@ def _progress(task, seconds: float, done: int, total: int) -> None:
     typer.echo(f"vrusim: [{done}/{total}] {task.name} ready in {seconds:.1f} s", err=True)
 
 
+def _names_option(name: str, metavar: str, help: str) -> Any:
+    """A repeatable option that also takes a comma list."""
+    return typer.Option(name, metavar=metavar, help=f"{help} Repeatable, or a comma list.", show_default=False)
+
+
 def compile_command(
     planner: Annotated[
         list[str] | None,
-        typer.Option(
+        _names_option(
             "--planner",
-            metavar="NAME",
-            help="Built-in planners to compile for: fsm, none, aeb, predictive, acpe, reverse_aeb, dow. Repeatable, "
-            "or a comma list. Default: fsm, none, aeb, predictive (the planners with a compiled step).",
-            show_default=False,
+            "NAME",
+            "Built-in planners to compile for: fsm, none, aeb, predictive, acpe, reverse_aeb, dow. Default: fsm, "
+            "none, aeb, predictive (the planners with a compiled step).",
         ),
     ] = None,
     part: Annotated[
         list[str] | None,
-        typer.Option(
+        _names_option(
             "--part",
-            metavar="PART",
-            help="What to compile: compiled (the compiled step: run, paper, sweep), ncap (the Euro NCAP grids' "
-            "drivers, doors, obstacles and probes), per-step (traces, plots, animations, plug-in planners), "
-            "threaded (the per-step path's batches of 4,096 variants or more). Repeatable, or a comma list. "
-            "Default: all four.",
-            show_default=False,
+            "PART",
+            "What to compile: compiled (the compiled step: run, paper, sweep), ncap (the Euro NCAP grids' drivers, "
+            "doors, obstacles and probes), per-step (traces, plots, animations, plug-in planners), threaded (the "
+            "per-step path's batches of 4,096 variants or more). Default: all four.",
         ),
     ] = None,
     jobs: Annotated[
