@@ -19,6 +19,7 @@ import time
 import types
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numba
 import platformdirs
@@ -124,7 +125,7 @@ _caching = True
 """False when no cache folder could be written: kernels then compile without numba's cache."""
 
 
-def njit(*args, **options):
+def njit(*args: Any, **options: Any) -> Any:
     """`numba.njit`, with `cache=True` dropped when no kernel cache folder could be written."""
     if not _caching:
         options.pop("cache", None)
