@@ -21,7 +21,10 @@ allows it, else the per-step path) and `simulate(batch, compiled=False)` (the pe
 B × steps / wall time of `simulate` on the packed batch, best of the repeats, the paths alternating; a warm-up
 of 2 steps at the same B first loads every compiled kernel that size uses (serial below
 `vrusim.kernels.PARALLEL_MIN_BATCH`, multi-threaded from it). Each (planner, B) runs in a fresh subprocess, so
-its peak resident set (both paths; the reference too where it runs) does not inherit another's.
+its peak resident set (both paths; the reference too where it runs) does not inherit another's. Before them,
+`vrusim compile` compiles the benchmarked planners' kernels into the cache, so that no measuring process compiles
+(compiling the multi-threaded kernels inside one once counted numba's and LLVM's memory in the FSM's B = 10^5 peak:
+848 MB instead of 463).
 
 Reference: for the FSM at each B in `--reference-sizes` (default 10^4) the same subprocess also times the fused
 Numba kernel of `fused_reference.py` on the same cruise speeds, interleaved with the engine runs, and the table
@@ -202,6 +205,8 @@ def main() -> None:
         reference = planner == "fsm" and size in args.reference_sizes
         print(json.dumps(measure(planner, size, args.repeats, args.steps, reference)))
         return
+    warm_up = [sys.executable, "-m", "vrusim", "compile", "--planner", ",".join(args.planners)]
+    subprocess.run([*warm_up, "--part", "compiled,per-step,threaded"], capture_output=True, check=True)
     rows = []
     for planner in args.planners:
         for size in args.sizes:
