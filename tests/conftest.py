@@ -178,7 +178,7 @@ else:
 # a single file after a source change compiles what it uses.
 WARM_UP = [sys.executable, "-m", "vrusim", "compile", "--part", "compiled", "--jobs", "2"]
 _WARM_UP_TIMEOUT_S = 600.0
-"""Longest the controller waits for the warm-up (about 50 s on a cold cache here), s."""
+"""Longest the controller waits for the warm-up (about 60 s on a cold cache here), s."""
 
 
 @pytest.hookimpl(tryfirst=True)
