@@ -215,3 +215,42 @@ def test_a_registered_metric_is_in_the_episode_summary():
         extra_metric.unregister()
     assert set(info["metrics"]) == {*SUMMARY_COLUMNS, *PER_VRU_COLUMNS, "mean_speed_mps", "stopped_at_end"}
     assert isinstance(info["metrics"]["stopped_at_end"], bool) and info["metrics"]["mean_speed_mps"] > 0
+
+
+_NEW_KERNEL_VERSIONS = """
+import sys, gymnasium, vrusim.gym
+from vrusim.api.compiling import _run_briefly, _warm_up_scenarios
+from vrusim.kernels import BatchKernel
+
+def versions():
+    kernels = {}
+    for module in [m for name, m in sys.modules.items() if name.startswith("vrusim.")]:
+        for name, value in vars(module).items():
+            if isinstance(value, BatchKernel) and value._serial is not None:
+                kernels[f"{value.function.__module__}.{name}"] = len(value._serial.signatures)
+    return kernels
+
+_run_briefly(_warm_up_scenarios("none"), trace=True)  # what `vrusim compile --part per-step` runs
+before = versions()
+env = gymnasium.make("vrusim/PaperPedestrian-v0", v2x=True)
+env.reset(seed=0)
+for _ in range(3):
+    env.step(env.action_space.sample())
+envs = gymnasium.make_vec("vrusim/PaperPedestrian-v0", num_envs=3, vectorization_mode="vector_entry_point")
+envs.reset(seed=0)
+envs.step(envs.action_space.sample())
+after = versions()
+print(sorted(name for name, count in after.items() if count > before.get(name, 0)))
+"""
+
+
+def test_environments_need_no_kernel_version_that_vrusim_compile_leaves_out():
+    """After the per-step path's warm-up (`vrusim compile --part per-step`), stepping the environments adds no
+    version of any batch kernel: they pass the argument types the engine does (a read-only ego speed compiled
+    another `ttc_batch`)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _NEW_KERNEL_VERSIONS], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"

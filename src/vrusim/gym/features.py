@@ -86,7 +86,9 @@ def observation_vectors(params: BatchParams, observation: Observation, vru_slots
     out[:, 3] = p.route_length_m - o.ego_station_m
     out[:, 4] = o.cruise_speed_mps
     out[:, 5] = np.maximum(p.duration_s - o.t_s, 0.0)
-    hx, hy = o.ego_heading_x.copy(), o.ego_heading_y.copy()  # writable: the kernels' usual signature
+    # writable copies (as the ego's speed below): the argument types the engine's kernels are compiled for, which
+    # `vrusim compile` has compiled; a read-only array would compile another version of `ttc_batch`
+    hx, hy = o.ego_heading_x.copy(), o.ego_heading_y.copy()
     front_x, front_y = o.ego_x_m + p.rear_to_front_m * hx, o.ego_y_m + p.rear_to_front_m * hy
     dx, dy = o.vru_x_m - front_x[:, None], o.vru_y_m - front_y[:, None]
     ego_vx, ego_vy = o.ego_speed_mps * hx, o.ego_speed_mps * hy
@@ -100,7 +102,7 @@ def observation_vectors(params: BatchParams, observation: Observation, vru_slots
     )  # fmt: skip
     clearance = contact[0]
     ttc_batch(
-        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, np.ascontiguousarray(o.ego_speed_mps),
+        B, centre_x, centre_y, hx, hy, p.half_length_m, p.half_width_m, o.ego_speed_mps.copy(),
         estimate_x, estimate_y, p.vru_radius_m, np.ascontiguousarray(o.vru_vx_mps), np.ascontiguousarray(o.vru_vy_mps),
         ttc,
     )  # fmt: skip
