@@ -64,6 +64,54 @@ def test_paper_cases_identical(paper_batch, planner):
     assert compiled.metrics.values.size and np.isfinite(compiled.metrics.min_clearance_m).all()
 
 
+@pytest.mark.parametrize("planner", PLANNERS)
+@pytest.mark.parametrize("case", range(3))
+def test_one_variant_identical(paper_batch, planner, case):
+    """A batch of one variant (`vrusim run`): its state arrays are C- and Fortran-ordered at once."""
+    one = pack([paper_scenarios()[case][2]])
+    compiled, per_step = both_paths(_as_planner(one, planner))
+    assert_identical(compiled, per_step)
+
+
+_KERNEL_VERSIONS = """
+from vrusim.api.compiling import _run_briefly, _warm_up_scenarios
+from vrusim.engine import compiled_run
+counts = []
+for planner, kernel in compiled_run._KERNELS.items():
+    scenarios = _warm_up_scenarios(planner)
+    for batch in (scenarios, scenarios[:1], scenarios[1:2], scenarios[:3]):
+        _run_briefly(batch, compiled=True)
+    counts.append(len(kernel.signatures))
+print(counts)
+"""
+
+
+def test_batches_of_one_and_many_variants_share_one_kernel_version():
+    """A kernel compiled by `vrusim compile` (a batch of every bundled scenario) serves `vrusim run` (one
+    variant): numba types a one-variant state array as C-ordered, so variant-major arrays keep room for two."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _KERNEL_VERSIONS], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[1, 1, 1, 1]"
+
+
+def test_state_arrays_are_laid_out_as_the_planner_runs_fastest():
+    """Variant-major arrays keep room for two variants and are Fortran-ordered; the others are as they were."""
+    many = compiled_run._state_array((6,), 5, 2, True)
+    assert many.shape == (6, 5, 2) and many.flags.f_contiguous and not many.flags.c_contiguous
+    one = compiled_run._state_array((3,), 1, 1, True, np.inf)
+    assert one.shape == (3, 2, 1) and not one.flags.c_contiguous and np.isinf(one).all()
+    assert compiled_run._state_array((7,), 1, 1, False).shape == (7, 1, 1)
+    rows = np.arange(12.0).reshape(4, 3)
+    copy = compiled_run._state_copy(rows, True)
+    np.testing.assert_array_equal(copy[:, :3], rows)
+    assert copy.flags.f_contiguous
+    assert compiled_run._state_copy(rows, False) is rows
+    assert set(compiled_run.VARIANT_MAJOR) == set(compiled_run._KERNELS)
+
+
 @pytest.mark.parametrize("planner", ["fsm", "aeb"])
 def test_euro_ncap_grid_identical(planner):
     tests = select(["CPNC", "CPTA", "CBLA"], night=True, protocol="2026")
