@@ -209,6 +209,14 @@ def _advance(b, step, world, vrus, ego, scratch, metrics):  # pragma: no cover (
 
 
 @njit(cache=True, inline="always")
+def _rows_of(ego_rows):  # pragma: no cover (compiled)
+    """The ego's 14 state arrays (`EgoState`, in `_run_once`'s order) as rows of one array [14, B]: views taken
+    inside the kernel all lie at one address plus constants when the array is variant-major."""
+    E = ego_rows
+    return (E[0], E[1], E[2], E[3], E[4], E[5], E[6], E[7], E[8], E[9], E[10], E[11], E[12], E[13])
+
+
+@njit(cache=True, inline="always")
 def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
     """Variant b stopped after `step` steps (or could not go on: `status`)."""
     scratch[19][b] = False
@@ -221,7 +229,8 @@ def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_fsm(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+def _run_fsm(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
+    ego = _rows_of(ego_rows)
     table, tracks, station, mode, zone_length, ego_length = plan
     dt, n_steps, path, offsets, rear_to_front, half_width = world[0], world[1], world[5], world[6], world[14], world[17]
     cruise = world[20]
@@ -246,7 +255,8 @@ def _run_fsm(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan)
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_none(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+def _run_none(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
+    ego = _rows_of(ego_rows)
     n_steps, command = world[1], scratch[16]
     for b in range(first, stop):
         for step in range(n_steps):
@@ -258,7 +268,8 @@ def _run_none(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_aeb(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+def _run_aeb(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
+    ego = _rows_of(ego_rows)
     table, tracks, mode, ttc_out, half_length, rear_to_centre, has_driver, driver_accel = plan
     dt, n_steps, path, offsets, half_width, cruise = world[0], world[1], world[5], world[6], world[17], world[20]
     detected, estimate, command = scratch[10], scratch[12], scratch[16]
@@ -284,7 +295,10 @@ def _run_aeb(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan)
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_predictive(first, stop, world, sensor, v2x, vrus, ego, scratch, metrics, plan):  # pragma: no cover (compiled)
+def _run_predictive(
+    first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+):  # pragma: no cover (compiled)
+    ego = _rows_of(ego_rows)
     (
         table, kind, tracks, station, path_station, yielding, mode, required, last_plan, own_command, bounds,
         vru_paths, vru_offsets, rear_to_centre, ego_length, front_x, front_y,
@@ -476,6 +490,9 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
         ego.station_m, ego.curvature_per_m, ego.lateral_error_m, ego.front_x_m, ego.front_y_m, ego.centre_x_m,
         ego.centre_y_m,
     )  # fmt: skip
+    ego_rows = _state_array((len(ego_tuple),), size, None, variant_major)
+    for row, array in enumerate(ego_tuple):
+        ego_rows[row, :size] = array
     scratch = (
         np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), _state_array((6,), size, slots, variant_major),
         np.zeros(size), np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), np.zeros(size),
@@ -494,7 +511,7 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
         np.zeros((size, capacity), dtype=np.int8), np.zeros(size, dtype=np.int64), steps_run, batch.dt_s, status,
     )  # fmt: skip
     plan = _planner_state(name, planner, batch)
-    arguments = (world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_tuple, scratch, metrics_tuple, plan)
+    arguments = (world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan)
     _over_threads(_KERNELS[name], size, arguments)
     if variant_major:
         metrics.values[:SURROGATE_START], metrics.values[SURROGATE_START:] = values[:, :size], surrogates[:, :size]
