@@ -217,6 +217,16 @@ def _rows_of(ego_rows):  # pragma: no cover (compiled)
 
 
 @njit(cache=True, inline="always")
+def _world_of(world_rows):  # pragma: no cover (compiled)
+    """The run's settings in the order `_advance` unpacks them."""
+    dt, n_steps, stop_on_collision, stop_at_route_end, path, offsets, W = world_rows
+    return (
+        dt, n_steps, W[0], stop_on_collision, stop_at_route_end, path, offsets, W[1], W[2], W[3], W[4], W[5], W[6],
+        W[7], W[8], W[9], W[10], W[11], W[12], W[13], W[14],
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
 def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
     """Variant b stopped after `step` steps (or could not go on: `status`)."""
     scratch[19][b] = False
@@ -229,8 +239,10 @@ def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_fsm(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
-    ego = _rows_of(ego_rows)
+def _run_fsm(
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+):  # pragma: no cover (compiled)
+    world, ego = _world_of(world_rows), _rows_of(ego_rows)
     table, tracks, station, mode, zone_length, ego_length = plan
     dt, n_steps, path, offsets, rear_to_front, half_width = world[0], world[1], world[5], world[6], world[14], world[17]
     cruise = world[20]
@@ -255,8 +267,10 @@ def _run_fsm(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, 
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_none(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
-    ego = _rows_of(ego_rows)
+def _run_none(
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+):  # pragma: no cover (compiled)
+    world, ego = _world_of(world_rows), _rows_of(ego_rows)
     n_steps, command = world[1], scratch[16]
     for b in range(first, stop):
         for step in range(n_steps):
@@ -268,8 +282,10 @@ def _run_none(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics,
 
 
 @njit(cache=True, nogil=True, _nrt=False)
-def _run_aeb(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan):  # pragma: no cover (compiled)
-    ego = _rows_of(ego_rows)
+def _run_aeb(
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+):  # pragma: no cover (compiled)
+    world, ego = _world_of(world_rows), _rows_of(ego_rows)
     table, tracks, mode, ttc_out, half_length, rear_to_centre, has_driver, driver_accel = plan
     dt, n_steps, path, offsets, half_width, cruise = world[0], world[1], world[5], world[6], world[17], world[20]
     detected, estimate, command = scratch[10], scratch[12], scratch[16]
@@ -296,9 +312,9 @@ def _run_aeb(first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, 
 
 @njit(cache=True, nogil=True, _nrt=False)
 def _run_predictive(
-    first, stop, world, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
 ):  # pragma: no cover (compiled)
-    ego = _rows_of(ego_rows)
+    world, ego = _world_of(world_rows), _rows_of(ego_rows)
     (
         table, kind, tracks, station, path_station, yielding, mode, required, last_plan, own_command, bounds,
         vru_paths, vru_offsets, rear_to_centre, ego_length, front_x, front_y,
@@ -471,13 +487,24 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
     size, slots = batch.size, batch.vru_slots
     shape = (size, slots)
     ego, vrus = initial_ego(batch), initial_vrus(batch)
-    world = (
-        batch.dt_s, batch.n_steps, _c(batch.duration_s), _c(batch.stop_on_collision), _c(batch.stop_at_route_end),
-        batch.routes.arrays, _c(batch.route_offset), _c(batch.lateral_gain), _c(batch.heading_gain),
-        _c(batch.max_curvature_per_m), _c(batch.max_accel_mps2), _c(batch.max_decel_mps2), _c(batch.lag_s),
-        _c(batch.max_jerk_mps3), _c(batch.rear_to_front_m), _c(batch.rear_to_centre_m), _c(batch.half_length_m),
-        _c(batch.half_width_m), _c(batch.route_length_m), _c(batch.tet_ttc_threshold_s), _c(batch.cruise_speed_mps),
+    world_floats = (
+        batch.duration_s, batch.lateral_gain, batch.heading_gain, batch.max_curvature_per_m, batch.max_accel_mps2,
+        batch.max_decel_mps2, batch.lag_s, batch.max_jerk_mps3, batch.rear_to_front_m, batch.rear_to_centre_m,
+        batch.half_length_m, batch.half_width_m, batch.route_length_m, batch.tet_ttc_threshold_s,
+        batch.cruise_speed_mps,
     )  # fmt: skip
+    world_rows = _state_array((len(world_floats),), size, None, variant_major)
+    for row, array in enumerate(world_floats):
+        world_rows[row, :size] = array
+    world = (
+        batch.dt_s,
+        batch.n_steps,
+        _c(batch.stop_on_collision),
+        _c(batch.stop_at_route_end),
+        batch.routes.arrays,
+        _c(batch.route_offset),
+        world_rows,
+    )
     vru_tuple = (
         batch.vru_paths.arrays, _c(batch.vru_path_offset), _c(batch.trigger_kind), _c(batch.trigger_value),
         _c(batch.trigger_x_m), _c(batch.trigger_y_m), _c(batch.vru_top_speed_mps), _c(batch.vru_max_accel_mps2),
