@@ -209,16 +209,17 @@ def _advance(b, step, world, vrus, ego, scratch, metrics):  # pragma: no cover (
 
 
 @njit(cache=True, inline="always")
-def _rows_of(ego_rows):  # pragma: no cover (compiled)
-    """The ego's 14 state arrays (`EgoState`, in `_run_once`'s order) as rows of one array [14, B]: views taken
-    inside the kernel all lie at one address plus constants when the array is variant-major."""
+def _ego_of(ego_rows):  # pragma: no cover (compiled)
+    """The ego's 14 state arrays (`EgoState`, in `_run_once`'s order) from the rows of one array [14, B]: views
+    taken inside the kernel, which all lie at one address plus constants when the array is variant-major."""
     E = ego_rows
     return (E[0], E[1], E[2], E[3], E[4], E[5], E[6], E[7], E[8], E[9], E[10], E[11], E[12], E[13])
 
 
 @njit(cache=True, inline="always")
 def _world_of(world_rows):  # pragma: no cover (compiled)
-    """The run's settings in the order `_advance` unpacks them."""
+    """The run's settings in the order `_advance` unpacks them, its 15 float settings from the rows of one array
+    [15, B] (`_ego_of`)."""
     dt, n_steps, stop_on_collision, stop_at_route_end, path, offsets, W = world_rows
     return (
         dt, n_steps, W[0], stop_on_collision, stop_at_route_end, path, offsets, W[1], W[2], W[3], W[4], W[5], W[6],
@@ -242,7 +243,7 @@ def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
 def _run_fsm(
     first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
 ):  # pragma: no cover (compiled)
-    world, ego = _world_of(world_rows), _rows_of(ego_rows)
+    world, ego = _world_of(world_rows), _ego_of(ego_rows)
     table, tracks, station, mode, zone_length, ego_length = plan
     dt, n_steps, path, offsets, rear_to_front, half_width = world[0], world[1], world[5], world[6], world[14], world[17]
     cruise = world[20]
@@ -270,7 +271,7 @@ def _run_fsm(
 def _run_none(
     first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
 ):  # pragma: no cover (compiled)
-    world, ego = _world_of(world_rows), _rows_of(ego_rows)
+    world, ego = _world_of(world_rows), _ego_of(ego_rows)
     n_steps, command = world[1], scratch[16]
     for b in range(first, stop):
         for step in range(n_steps):
@@ -285,7 +286,7 @@ def _run_none(
 def _run_aeb(
     first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
 ):  # pragma: no cover (compiled)
-    world, ego = _world_of(world_rows), _rows_of(ego_rows)
+    world, ego = _world_of(world_rows), _ego_of(ego_rows)
     table, tracks, mode, ttc_out, half_length, rear_to_centre, has_driver, driver_accel = plan
     dt, n_steps, path, offsets, half_width, cruise = world[0], world[1], world[5], world[6], world[17], world[20]
     detected, estimate, command = scratch[10], scratch[12], scratch[16]
@@ -314,7 +315,7 @@ def _run_aeb(
 def _run_predictive(
     first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
 ):  # pragma: no cover (compiled)
-    world, ego = _world_of(world_rows), _rows_of(ego_rows)
+    world, ego = _world_of(world_rows), _ego_of(ego_rows)
     (
         table, kind, tracks, station, path_station, yielding, mode, required, last_plan, own_command, bounds,
         vru_paths, vru_offsets, rear_to_centre, ego_length, front_x, front_y,
@@ -357,17 +358,21 @@ def _c(array) -> np.ndarray:
 
 
 VARIANT_MAJOR = {"fsm": True, "none": True, "aeb": True, "predictive": False}
-"""Whether a planner's kernel gets its multi-field state arrays [fields, B, ...] (the accumulators, the VRUs'
-kinematics, the step's scratch) laid out variant by variant (Fortran order) instead of field by field.
+"""Whether a planner's kernel gets its multi-field arrays [fields, B, ...] (the accumulators, the VRUs' kinematics,
+the step's vector scratch, the ego's state, the run's float settings) laid out variant by variant (Fortran
+order) instead of field by field.
 
-The kernels run one variant's whole horizon at a time. Field by field, every row of such an array has an address
-of its own, which the kernel keeps reloading; variant by variant, a variant's fields lie at one address plus
-constants. Measured (one thread, B = 2,000): 5-9 % off a step for the FSM, `none` and AEB kernels; 3-7 % on for
-the predictive one, whose time is in its occupancy prediction (docs/architecture.md). Bit-identical either way."""
+The kernels run one variant's whole horizon at a time. Field by field, every row of such an array (and every
+separate array) has an address of its own, which the kernel keeps reloading; variant by variant, a variant's
+fields lie at one address plus constants. Measured (one thread, B = 2,000): 14-17 % off a step for the FSM and
+`none` kernels, 7 % for the AEB; the predictive kernel, whose time is in its occupancy prediction, ran 3-50 %
+slower (docs/architecture.md). Bit-identical either way."""
 
 
-def _state_array(fields: tuple[int, ...], size: int, slots: int | None, variant_major: bool, fill=0.0) -> np.ndarray:
-    """A new state array [*fields, B] or [*fields, B, K] filled with `fill`.
+def _state_array(
+    fields: tuple[int, ...], size: int, slots: int | None, variant_major: bool, fill: float = 0.0
+) -> np.ndarray:
+    """A new array [*fields, B] or [*fields, B, K] filled with `fill`.
 
     Variant-major, it has room for at least 2 variants (the kernel reads the first `size`): one variant's array is
     C-ordered as well, which numba would type as such and compile a second version of the kernel for.
@@ -376,14 +381,18 @@ def _state_array(fields: tuple[int, ...], size: int, slots: int | None, variant_
     return np.full(shape, fill, order="F" if variant_major else "C")
 
 
+def _stacked(rows, variant_major: bool) -> np.ndarray:
+    """The arrays `rows` (each [B] or [B, K]) as the rows of one `_state_array`."""
+    first = rows[0]
+    stacked = _state_array((len(rows),), first.shape[0], first.shape[1] if first.ndim == 2 else None, variant_major)
+    for row, array in enumerate(rows):
+        stacked[row, : first.shape[0]] = array
+    return stacked
+
+
 def _state_copy(array: np.ndarray, variant_major: bool) -> np.ndarray:
-    """`array` [fields, B, ...] as a `_state_array` (a copy), or itself when not variant-major."""
-    if not variant_major:
-        return array
-    size, slots = array.shape[1], (array.shape[2] if array.ndim == 3 else None)
-    copy = _state_array(array.shape[:1], size, slots, True)
-    copy[:, :size] = array
-    return copy
+    """`array` [fields, B, ...] as a variant-major `_state_array` (a copy), or itself when not variant-major."""
+    return _stacked(array, True) if variant_major else array
 
 
 def _new_tracks(size: int, slots: int) -> tuple[np.ndarray, np.ndarray]:
@@ -493,18 +502,10 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
         batch.half_length_m, batch.half_width_m, batch.route_length_m, batch.tet_ttc_threshold_s,
         batch.cruise_speed_mps,
     )  # fmt: skip
-    world_rows = _state_array((len(world_floats),), size, None, variant_major)
-    for row, array in enumerate(world_floats):
-        world_rows[row, :size] = array
     world = (
-        batch.dt_s,
-        batch.n_steps,
-        _c(batch.stop_on_collision),
-        _c(batch.stop_at_route_end),
-        batch.routes.arrays,
-        _c(batch.route_offset),
-        world_rows,
-    )
+        batch.dt_s, batch.n_steps, _c(batch.stop_on_collision), _c(batch.stop_at_route_end), batch.routes.arrays,
+        _c(batch.route_offset), _stacked(world_floats, variant_major),
+    )  # fmt: skip
     vru_tuple = (
         batch.vru_paths.arrays, _c(batch.vru_path_offset), _c(batch.trigger_kind), _c(batch.trigger_value),
         _c(batch.trigger_x_m), _c(batch.trigger_y_m), _c(batch.vru_top_speed_mps), _c(batch.vru_max_accel_mps2),
@@ -517,9 +518,7 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
         ego.station_m, ego.curvature_per_m, ego.lateral_error_m, ego.front_x_m, ego.front_y_m, ego.centre_x_m,
         ego.centre_y_m,
     )  # fmt: skip
-    ego_rows = _state_array((len(ego_tuple),), size, None, variant_major)
-    for row, array in enumerate(ego_tuple):
-        ego_rows[row, :size] = array
+    ego_rows = _stacked(ego_tuple, variant_major)
     scratch = (
         np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), _state_array((6,), size, slots, variant_major),
         np.zeros(size), np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), np.zeros(size),
