@@ -5,6 +5,8 @@ from __future__ import annotations
 import copy
 import dataclasses
 import importlib
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -66,7 +68,7 @@ def test_paper_cases_identical(paper_batch, planner):
 
 @pytest.mark.parametrize("planner", PLANNERS)
 @pytest.mark.parametrize("case", range(3))
-def test_one_variant_identical(paper_batch, planner, case):
+def test_one_variant_identical(planner, case):
     """A batch of one variant (`vrusim run`): its state arrays are C- and Fortran-ordered at once."""
     one = pack([paper_scenarios()[case][2]])
     compiled, per_step = both_paths(_as_planner(one, planner))
@@ -89,15 +91,12 @@ print(counts)
 def test_batches_of_one_and_many_variants_share_one_kernel_version():
     """A kernel compiled by `vrusim compile` (a batch of every bundled scenario) serves `vrusim run` (one
     variant): numba types a one-variant state array as C-ordered, so variant-major arrays keep room for two."""
-    import subprocess
-    import sys
-
     done = subprocess.run([sys.executable, "-c", _KERNEL_VERSIONS], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[1, 1, 1, 1]"
 
 
-def test_state_arrays_are_laid_out_as_the_planner_runs_fastest():
+def test_variant_major_arrays_keep_room_for_two_variants():
     """Variant-major arrays keep room for two variants and are Fortran-ordered; the others are as they were."""
     many = compiled_run._state_array((6,), 5, 2, True)
     assert many.shape == (6, 5, 2) and many.flags.f_contiguous and not many.flags.c_contiguous

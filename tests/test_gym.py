@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import warnings
 
 import gymnasium
@@ -248,9 +250,6 @@ def test_environments_need_no_kernel_version_that_vrusim_compile_leaves_out():
     """After the per-step path's warm-up (`vrusim compile --part per-step`), stepping the environments adds no
     version of any batch kernel: they pass the argument types the engine does (a read-only ego speed compiled
     another `ttc_batch`)."""
-    import subprocess
-    import sys
-
     done = subprocess.run([sys.executable, "-c", _NEW_KERNEL_VERSIONS], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"

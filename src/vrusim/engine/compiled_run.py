@@ -6,7 +6,8 @@ each variant's whole horizon (sensing, sensor model, RSU and channel, fusion, pl
 contact, TTC, the streamed metrics and the stop rules) without returning to Python, variants spread over the
 cores (threads: the kernels release the GIL). Each part is the very per-variant function the lock-step kernels
 loop over (`*_variant`), called in the same order, so both paths give bit-identical results; a variant simply
-stops at its own stop step instead of waiting to be compacted away.
+stops at its own stop step instead of waiting to be compacted away. The kernels get most of their state laid
+out variant by variant (`VARIANT_MAJOR`), the layout that suits running one variant at a time.
 
 What the compiled step does not cover runs the per-step path (`compiled_support` says why): a trace, a planner
 of another class (a subclass of a built-in too), a channel passed in, drivers and doors (`ego.driver`,
