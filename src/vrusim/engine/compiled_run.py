@@ -16,6 +16,7 @@ of another class (a subclass of a built-in too), a channel passed in, drivers an
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
@@ -382,7 +383,7 @@ def _state_array(
     return np.full(shape, fill, order="F" if variant_major else "C")
 
 
-def _stacked(rows, variant_major: bool) -> np.ndarray:
+def _stacked(rows: Sequence[np.ndarray] | np.ndarray, variant_major: bool) -> np.ndarray:
     """The arrays `rows` (each [B] or [B, K]) as the rows of one `_state_array`."""
     first = rows[0]
     stacked = _state_array((len(rows),), first.shape[0], first.shape[1] if first.ndim == 2 else None, variant_major)
