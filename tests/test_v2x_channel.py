@@ -26,6 +26,7 @@ from vrusim.errors import UserInputError
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.v2x import V2X_PROFILES, ChannelSpec, GilbertElliottLoss, load_profiles
 from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.rng import STREAM_V2X_JITTER, uniforms
 from vrusim.sim.v2x.channel import RealisticChannel, make_channel
 from vrusim.sim.v2x.messages import IdealChannel, V2xMessages
 
@@ -250,6 +251,26 @@ def test_jitter_reorders_and_older_messages_are_ignored():
         assert min(lags) >= 0 and max(lags) <= 5
     channel = record.channel
     assert np.all(channel.delivered < channel.generated)  # some were overtaken
+
+
+@pytest.mark.parametrize("jitter_s", [0.0, 0.05])
+def test_each_step_takes_the_newest_message_due(jitter_s):
+    """Every step's track is the newest message due by then that is newer than the track: a queue model built
+    from the same delay draws. With jitter a message can be due behind one that is not, which a scan that stops
+    at the first message not yet due would miss."""
+    seeds = np.arange(20)
+    params = channel_batch({"generation": {"mode": "every_step"}, "latency_s": 0.02, "jitter_s": jitter_s}, seeds)
+    steps = 300
+    record = drive(params, steps)
+    jitter = np.stack([uniforms(seeds, g, STREAM_V2X_JITTER, 1)[:, 0] for g in range(steps)], axis=1)
+    due = np.arange(steps) + np.ceil((0.02 + jitter_s * jitter) / DT - 1e-9).astype(int)
+    for b in seeds:
+        track, expected = -1, []
+        for n in range(steps):
+            newer_due = [g for g in range(track + 1, n + 1) if due[b, g] <= n]
+            track = max(newer_due, default=track)
+            expected.append(track)
+        assert record.message_step[:, b, 0].tolist() == expected
 
 
 # ---------------------------------------------------------------- loss models

@@ -129,15 +129,21 @@ def _push(
 
 @njit(cache=True, inline="always")
 def _take_newest_due(
-    n, b, k, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered
+    n, b, k, ordered, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered
 ):  # pragma: no cover (compiled)
-    """Deliver the newest queued message due by step n; older queued ones are dropped (already superseded)."""
+    """Deliver the newest queued message due by step n; older queued ones are dropped (already superseded).
+
+    `ordered`: the queue's due steps never decrease (no jitter: every message waits the same whole steps), so the
+    scan stops at the first message not yet due; every later one is not due either.
+    """
     capacity = buf_gen.shape[2]
     head, count = buf_head[b, k], buf_count[b, k]
     newest = -1
     for j in range(count):
         if buf_due[b, k, _slot(head, j, capacity)] <= n:
             newest = j
+        elif ordered:
+            break
     if newest >= 0:
         i = _slot(head, newest, capacity)
         track_gen[b, k] = buf_gen[b, k, i]
@@ -207,6 +213,7 @@ def channel_variant(
     ) = state  # fmt: skip
     K = covered.shape[1]
     t = n * dt
+    ordered = not cfg[b, CFG_JITTER_S] > 0.0
     for k in range(K):
         if covered[b, k]:
             if not was_covered[b, k]:
@@ -232,7 +239,9 @@ def channel_variant(
                     ):
                         _push(n, due_step, b, k, seed[b], cfg, kin, buf_gen, buf_due, buf_kin, buf_head, buf_count)
         was_covered[b, k] = covered[b, k]
-        _take_newest_due(n, b, k, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered)
+        _take_newest_due(
+            n, b, k, ordered, buf_gen, buf_due, buf_kin, buf_head, buf_count, track_gen, track_kin, delivered
+        )
         g = track_gen[b, k]
         if g >= 0 and (n - g) * dt > cfg[b, CFG_MAX_AGE_S] + _TIME_TOLERANCE:
             track_gen[b, k] = -1
