@@ -75,6 +75,66 @@ def test_one_variant_identical(planner, case):
     assert_identical(compiled, per_step)
 
 
+def assert_same_trace(compiled: BatchRun, per_step: BatchRun) -> None:
+    """The same columns in the same order, each of the same dtype and shape and bit for bit equal."""
+    assert compiled.trace is not None and per_step.trace is not None
+    assert list(compiled.trace) == list(per_step.trace) == list(compiled_run.TRACE_COLUMNS)
+    for name, column in compiled.trace.items():
+        other = per_step.trace[name]
+        assert (column.dtype, column.shape) == (other.dtype, other.shape), name
+        assert column.tobytes() == other.tobytes(), name
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+@pytest.mark.parametrize("case", range(3))
+@pytest.mark.parametrize("v2x", [False, True])
+def test_one_variant_trace_recorded_compiled_is_the_per_step_trace(planner, case, v2x):
+    """One variant's trace (`vrusim.run` of one scenario, `vrusim run --trace`) is recorded inside the compiled
+    step, row by row: the per-step path's trace, bit for bit, and the same results."""
+    scenario = paper_scenarios()[case][2]
+    one = pack([scenario.model_copy(update={"v2x": scenario.v2x.model_copy(update={"enabled": v2x})})])
+    compiled = simulate(_as_planner(one, planner), trace=True, compiled=True)
+    per_step = simulate(_as_planner(one, planner), trace=True, compiled=False)
+    assert_same_trace(compiled, per_step)
+    assert_identical(compiled, per_step)
+    assert len(compiled.trace["t_s"]) == compiled.steps
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_one_variant_trace_with_realistic_sensor_and_channel(paper_pedestrian_dict, planner):
+    """Detections from a sensor that misses and lags, and V2X ages from a lossy, jittery channel (NaN: none)."""
+    one = pack([scenario_from_mapping(_realistic(paper_pedestrian_dict, 3, 14.0), "v3")])
+    compiled = simulate(_as_planner(one, planner), trace=True, compiled=True)
+    per_step = simulate(_as_planner(one, planner), trace=True, compiled=False)
+    assert_same_trace(compiled, per_step)
+    assert_identical(compiled, per_step)
+    ages = compiled.trace["vru_v2x_age_s"]
+    assert np.isnan(ages).any() and (ages > 0.0).any()
+
+
+def test_one_variant_trace_of_euro_ncap_tests_with_obstructions():
+    """Euro NCAP tests whose obstruction occludes the sensor, each traced alone."""
+    tests = select(["CPNC", "CBNAO"], night=True, protocol="2026")
+    for test in tests[:: max(1, len(tests) // 4)]:
+        one = pack([build_test(test, "fsm", v2x=True).scenario])
+        assert one.obstacles.x_m.shape[1] > 0
+        assert_same_trace(simulate(one, trace=True, compiled=True), simulate(one, trace=True, compiled=False))
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_one_variant_trace_of_two_vrus(paper_pedestrian_dict, planner):
+    """Two pedestrians: the VRU columns per slot, clearance and TTC the smaller of the two."""
+    data = copy.deepcopy(paper_pedestrian_dict)
+    second = copy.deepcopy(data["vrus"][0])
+    second.update(start={"x_m": 26.0, "y_m": 6.0}, heading_deg=-90, trigger={"at_time_s": 1.0})
+    data["vrus"].append(second)
+    one = pack([scenario_from_mapping(data, "two")])
+    assert one.vru_slots == 2
+    compiled = simulate(_as_planner(one, planner), trace=True, compiled=True)
+    assert_same_trace(compiled, simulate(_as_planner(one, planner), trace=True, compiled=False))
+    assert compiled.trace["vru_x_m"].shape[2] == 2
+
+
 _KERNEL_VERSIONS = """
 from vrusim.api.compiling import _run_briefly, _warm_up_scenarios
 from vrusim.engine import compiled_run
@@ -207,6 +267,11 @@ def test_what_takes_the_per_step_path(paper_batch):
         pass
 
     assert "Braking" in compiled_run.compiled_support(paper_batch, Braking(), None, trace=False)
+    wrapped = make_planner("fsm")  # an instance whose act is not the class's: its act must run
+    wrapped.act = lambda observation: np.full(observation.ego_speed_mps.shape, -3.0)
+    assert "act is replaced" in compiled_run.compiled_support(paper_batch, wrapped, None, trace=False)
+    one = pack([paper_scenarios()[0][2]])
+    assert (simulate(one, planner=wrapped, trace=True).trace["ego_command_mps2"] == -3.0).all()
     with pytest.raises(ValueError, match="a trace is recorded"):
         simulate(paper_batch, trace=True, compiled=True)
     traced = simulate(paper_batch, trace=True)  # falls back by itself

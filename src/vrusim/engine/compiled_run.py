@@ -9,7 +9,8 @@ loop over (`*_variant`), called in the same order, so both paths give bit-identi
 stops at its own stop step instead of waiting to be compacted away. The kernels get most of their state laid
 out variant by variant (`VARIANT_MAJOR`), the layout that suits running one variant at a time.
 
-What the compiled step does not cover runs the per-step path (`compiled_support` says why): a trace, a planner
+What the compiled step does not cover runs the per-step path (`compiled_support` says why): a trace of more than
+one variant (one variant's trace is recorded inside the kernel, row by row), a planner
 of another class (a subclass of a built-in too), a channel passed in, drivers and doors (`ego.driver`,
 `ego.door`), VRU motion models other than `point_mass`, and plug-in V2X loss models.
 """
@@ -74,11 +75,17 @@ _OK, _BAD_COMMAND = 0, 1
 
 
 def compiled_support(batch: BatchParams, planner: object, channel: object, trace: bool) -> str | None:
-    """Why this run needs the per-step path (a short reason), or None when the compiled step can run it."""
-    if trace:
-        return "a trace is recorded"
+    """Why this run needs the per-step path (a short reason), or None when the compiled step can run it.
+
+    A trace is recorded compiled for one variant only: in a traced batch the per-step path keeps moving the
+    variants that have stopped until the last one stops, and records them; the compiled step stops each
+    variant at its own stop step."""
+    if trace and batch.size > 1:
+        return "a trace is recorded for more than one variant"
     if type(planner) not in COMPILED_PLANNERS:
         return f"planner {type(planner).__name__} has no compiled step"
+    if "act" in getattr(planner, "__dict__", {}):
+        return f"planner {type(planner).__name__}'s act is replaced on the instance"
     if channel is not None:
         return "a channel object was passed in"
     if batch.vru_motion != POINT_MASS:
@@ -237,13 +244,44 @@ def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
     metrics[11][b] = status
 
 
+@njit(cache=True, inline="always")
+def _trace_row(b, step, trace, world, v2x, vrus, ego, scratch):  # pragma: no cover (compiled)
+    """Write row `step` of variant b's trace (`TraceRecorder.add`, the columns in `TRACE_COLUMNS`' order): the
+    state after the step, and the detections, V2X ages and planner mode of its start (the last entry of `trace`
+    is the planner's mode array, which the kernel updates)."""
+    (
+        t_s, ego_x, ego_y, heading_x, heading_y, speed, accel, command, curvature, station, mode,
+        vru_x, vru_y, vru_speed, detected, source, v2x_age, clearance, ttc, planner_mode,
+    ) = trace  # fmt: skip
+    t_s[step] = (step + 1) * world[0]
+    ego_x[step, b], ego_y[step, b], heading_x[step, b], heading_y[step, b] = (
+        ego[12][b],
+        ego[13][b],
+        ego[2][b],
+        ego[3][b],
+    )
+    speed[step, b], accel[step, b], command[step, b] = ego[4][b], ego[5][b], scratch[16][b]
+    curvature[step, b], station[step, b], mode[step, b] = ego[8][b], ego[7][b], planner_mode[b]
+    kin, received, age = vrus[17], scratch[4], scratch[20]  # the ideal channel: what was sent, at age 0
+    if v2x[6]:
+        received, age = scratch[7], scratch[9]
+    nearest, soonest = scratch[13][0][b, 0], scratch[14][b, 0]
+    for k in range(kin.shape[2]):
+        vru_x[step, b, k], vru_y[step, b, k], vru_speed[step, b, k] = kin[0, b, k], kin[1, b, k], vrus[16][b, k]
+        detected[step, b, k], source[step, b, k] = scratch[10][b, k], scratch[11][b, k]
+        v2x_age[step, b, k] = age[b, k] if received[b, k] else np.nan
+        nearest = min(nearest, scratch[13][0][b, k])
+        soonest = min(soonest, scratch[14][b, k])
+    clearance[step, b], ttc[step, b] = nearest, soonest
+
+
 # ---------------------------------------------------------------------------------------------------------------
 # one kernel per planner: the planner's step between `_observe` and `_advance`
 
 
 @njit(cache=True, nogil=True, _nrt=False)
 def _run_fsm(
-    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan, trace
 ):  # pragma: no cover (compiled)
     world, ego = _world_of(world_rows), _ego_of(ego_rows)
     table, tracks, station, mode, zone_length, ego_length = plan
@@ -264,14 +302,17 @@ def _run_fsm(
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
             _mode_changed(b, step, old, mode[b], metrics)
-            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+            running = _advance(b, step, world, vrus, ego, scratch, metrics)
+            if trace is not None:
+                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+            if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
 
 
 @njit(cache=True, nogil=True, _nrt=False)
 def _run_none(
-    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan, trace
 ):  # pragma: no cover (compiled)
     world, ego = _world_of(world_rows), _ego_of(ego_rows)
     n_steps, command = world[1], scratch[16]
@@ -279,14 +320,17 @@ def _run_none(
         for step in range(n_steps):
             _observe(b, step, world, sensor, v2x, vrus, ego, scratch, metrics)
             command[b] = 0.0  # HoldSpeedPlanner without a driver
-            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+            running = _advance(b, step, world, vrus, ego, scratch, metrics)
+            if trace is not None:
+                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+            if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
 
 
 @njit(cache=True, nogil=True, _nrt=False)
 def _run_aeb(
-    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan, trace
 ):  # pragma: no cover (compiled)
     world, ego = _world_of(world_rows), _ego_of(ego_rows)
     table, tracks, mode, ttc_out, half_length, rear_to_centre, has_driver, driver_accel = plan
@@ -308,14 +352,17 @@ def _run_aeb(
             if mode[b] >= aeb.WARNING and np.isnan(values[FIRST_WARNING, b]):  # RunMetrics.record_warning
                 values[FIRST_WARNING, b] = step * dt
                 values[WARNING_TTC, b] = values[PREV_TTC, b]
-            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+            running = _advance(b, step, world, vrus, ego, scratch, metrics)
+            if trace is not None:
+                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+            if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
 
 
 @njit(cache=True, nogil=True, _nrt=False)
 def _run_predictive(
-    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan
+    first, stop, world_rows, sensor, v2x, vrus, ego_rows, scratch, metrics, plan, trace
 ):  # pragma: no cover (compiled)
     world, ego = _world_of(world_rows), _ego_of(ego_rows)
     (
@@ -343,7 +390,10 @@ def _run_predictive(
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
             _mode_changed(b, step, old, mode[b], metrics)
-            if not _advance(b, step, world, vrus, ego, scratch, metrics):
+            running = _advance(b, step, world, vrus, ego, scratch, metrics)
+            if trace is not None:
+                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+            if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
 
@@ -468,18 +518,23 @@ def _v2x_tuple(batch: BatchParams) -> tuple:
     )  # fmt: skip
 
 
-def run_compiled(batch: BatchParams, planner: PlannerBase, mode_count: int) -> tuple[RunMetrics, int] | None:
+def run_compiled(
+    batch: BatchParams, planner: PlannerBase, mode_count: int, trace: bool = False
+) -> tuple[RunMetrics, int, dict[str, np.ndarray] | None] | None:
     """Run the batch with the planner's compiled step (the planner already reset): its metrics (`mode_count`
-    planner modes) and the number of steps the batch took. A run in which some variant changed mode more often
-    than `TRANSITIONS_PER_VARIANT` is run again with room for all of them; None (run it per step) when that room
-    would exceed `TRANSITION_BUFFER_BYTES`. A non-finite command is reported like the per-step path does.
+    planner modes), the number of steps the batch took and, with `trace` (one variant: `compiled_support`), its
+    per-step trace (`TraceRecorder.finish`'s columns). A run in which some variant changed mode more often than
+    `TRANSITIONS_PER_VARIANT` is run again with room for all of them; None (run it per step) when that room would
+    exceed `TRANSITION_BUFFER_BYTES`. A non-finite command is reported like the per-step path does.
     """
     capacity = TRANSITIONS_PER_VARIANT
     while True:
         metrics = RunMetrics(batch, mode_count)
-        steps, needed = _run_once(batch, planner, metrics, capacity)
+        columns = _new_trace(batch, planner) if trace else None
+        steps, needed = _run_once(batch, planner, metrics, capacity, columns)
         if needed <= capacity:
-            return metrics, steps
+            recorded = None if columns is None else {name: column[:steps] for name, column in columns.items()}
+            return metrics, steps, recorded
         if needed * batch.size * TRANSITION_BYTES > TRANSITION_BUFFER_BYTES:
             return None
         planner.reset(batch)
@@ -490,9 +545,35 @@ TRANSITION_BYTES = 10
 """Bytes of one recorded transition: step (int64), old and new mode (int8)."""
 
 
-def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, capacity: int) -> tuple[int, int]:
-    """One compiled run with room for `capacity` transitions a variant, filling `metrics`: (steps the batch took,
-    the most transitions a variant made); the transitions are in `metrics` only when they all fitted."""
+TRACE_COLUMNS = (
+    "t_s", "ego_x_m", "ego_y_m", "ego_heading_x", "ego_heading_y", "ego_speed_mps", "ego_accel_mps2",
+    "ego_command_mps2", "ego_curvature_per_m", "ego_station_m", "planner_mode", "vru_x_m", "vru_y_m",
+    "vru_speed_mps", "vru_detected", "vru_source", "vru_v2x_age_s", "clearance_m", "ttc_s",
+)  # fmt: skip
+"""The columns of a compiled trace, in `TraceRecorder.add`'s order (no driver or door: those run per step)."""
+_TRACE_DTYPES = {"planner_mode": np.int8, "vru_detected": np.bool_, "vru_source": np.int8}
+
+
+def _new_trace(batch: BatchParams, planner: PlannerBase) -> dict[str, np.ndarray]:
+    """Empty trace columns with a row for every step the batch may take: [steps], [steps, B] or [steps, B, K]."""
+    steps, size, slots = batch.n_steps, batch.size, batch.vru_slots
+    columns = {}
+    for name in TRACE_COLUMNS:
+        shape = (steps,) if name == "t_s" else (steps, size, slots) if name.startswith("vru_") else (steps, size)
+        columns[name] = np.empty(shape, dtype=_TRACE_DTYPES.get(name, np.float64))
+    return columns
+
+
+def _run_once(
+    batch: BatchParams,
+    planner: PlannerBase,
+    metrics: RunMetrics,
+    capacity: int,
+    trace: dict[str, np.ndarray] | None = None,
+) -> tuple[int, int]:
+    """One compiled run with room for `capacity` transitions a variant, filling `metrics` (and the `trace`
+    columns, when given): (steps the batch took, the most transitions a variant made); the transitions are in
+    `metrics` only when they all fitted."""
     name = COMPILED_PLANNERS[type(planner)]
     variant_major = VARIANT_MAJOR[name]
     size, slots = batch.size, batch.vru_slots
@@ -539,7 +620,10 @@ def _run_once(batch: BatchParams, planner: PlannerBase, metrics: RunMetrics, cap
         np.zeros((size, capacity), dtype=np.int8), np.zeros(size, dtype=np.int64), steps_run, batch.dt_s, status,
     )  # fmt: skip
     plan = _planner_state(name, planner, batch)
-    arguments = (world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan)
+    traced = None if trace is None else (*trace.values(), planner.mode)
+    arguments = (
+        world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan, traced
+    )  # fmt: skip
     _over_threads(_KERNELS[name], size, arguments)
     if variant_major:
         metrics.values[:SURROGATE_START], metrics.values[SURROGATE_START:] = values[:, :size], surrogates[:, :size]

@@ -85,9 +85,9 @@ def simulate(
     if compiled is not False:
         why_not = compiled_support(batch, planner, channel, trace)
         if why_not is None:
-            done = run_compiled(batch, planner, len(mode_names))
+            done = run_compiled(batch, planner, len(mode_names), trace)
             if done is not None:
-                return BatchRun(batch, done[0], mode_names, None, done[1])
+                return BatchRun(batch, done[0], mode_names, done[2], done[1])
             planner.reset(batch)  # a variant changes mode too often to buffer its transitions: per step
         elif compiled:
             raise ValueError(f"simulate(compiled=True): no compiled step for this run ({why_not})")
