@@ -100,12 +100,13 @@ def test_a_command_after_compile_compiles_nothing(tmp_path):
 
 
 def test_the_suite_warm_up_compiles_every_compiled_step():
-    """The controller's warm-up (tests/conftest.py) is `vrusim compile --part compiled`: every built-in planner's
-    compiled step, loaded from the cache here."""
+    """The controller's warm-up (tests/conftest.py) is `vrusim compile --part compiled,per-step`: every built-in
+    planner's compiled step, untraced and traced, and the per-step path, loaded from the cache here."""
     done = subprocess.run([*WARM_UP, "--json"], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     ran = json.loads(done.stdout)["tasks_s"]
-    assert sorted(ran) == sorted(f"compiled ({planner})" for planner in COMPILED_PLANNERS.values())
+    planners = COMPILED_PLANNERS.values()
+    assert sorted(ran) == sorted(f"{part} ({planner})" for planner in planners for part in ("compiled", "per-step"))
 
 
 _SPAWNS_A_SLEEPER = """
