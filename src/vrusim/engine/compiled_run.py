@@ -9,10 +9,10 @@ loop over (`*_variant`), called in the same order, so both paths give bit-identi
 stops at its own stop step instead of waiting to be compacted away. The kernels get most of their state laid
 out variant by variant (`VARIANT_MAJOR`), the layout that suits running one variant at a time.
 
-What the compiled step does not cover runs the per-step path (`compiled_support` says why): a trace of more than
-one variant (one variant's trace is recorded inside the kernel, row by row), a planner
-of another class (a subclass of a built-in too), a channel passed in, drivers and doors (`ego.driver`,
-`ego.door`), VRU motion models other than `point_mass`, and plug-in V2X loss models.
+One variant's trace is recorded inside the kernel, row by row (`_trace_row`). What the compiled step does not
+cover runs the per-step path (`compiled_support` says why): a trace of more than one variant, a planner of
+another class (a subclass of a built-in too) or an instance whose `act` was replaced, a channel passed in, drivers
+and doors (`ego.driver`, `ego.door`), VRU motion models other than `point_mass`, and plug-in V2X loss models.
 """
 
 from __future__ import annotations
@@ -254,12 +254,8 @@ def _trace_row(b, step, trace, world, v2x, vrus, ego, scratch):  # pragma: no co
         vru_x, vru_y, vru_speed, detected, source, v2x_age, clearance, ttc, planner_mode,
     ) = trace  # fmt: skip
     t_s[step] = (step + 1) * world[0]
-    ego_x[step, b], ego_y[step, b], heading_x[step, b], heading_y[step, b] = (
-        ego[12][b],
-        ego[13][b],
-        ego[2][b],
-        ego[3][b],
-    )
+    ego_x[step, b], ego_y[step, b] = ego[12][b], ego[13][b]
+    heading_x[step, b], heading_y[step, b] = ego[2][b], ego[3][b]
     speed[step, b], accel[step, b], command[step, b] = ego[4][b], ego[5][b], scratch[16][b]
     curvature[step, b], station[step, b], mode[step, b] = ego[8][b], ego[7][b], planner_mode[b]
     kin, received, age = vrus[17], scratch[4], scratch[20]  # the ideal channel: what was sent, at age 0
@@ -530,7 +526,7 @@ def run_compiled(
     capacity = TRANSITIONS_PER_VARIANT
     while True:
         metrics = RunMetrics(batch, mode_count)
-        columns = _new_trace(batch, planner) if trace else None
+        columns = _new_trace(batch) if trace else None
         steps, needed = _run_once(batch, planner, metrics, capacity, columns)
         if needed <= capacity:
             recorded = None if columns is None else {name: column[:steps] for name, column in columns.items()}
@@ -554,7 +550,7 @@ TRACE_COLUMNS = (
 _TRACE_DTYPES = {"planner_mode": np.int8, "vru_detected": np.bool_, "vru_source": np.int8}
 
 
-def _new_trace(batch: BatchParams, planner: PlannerBase) -> dict[str, np.ndarray]:
+def _new_trace(batch: BatchParams) -> dict[str, np.ndarray]:
     """Empty trace columns with a row for every step the batch may take: [steps], [steps, B] or [steps, B, K]."""
     steps, size, slots = batch.n_steps, batch.size, batch.vru_slots
     columns = {}
