@@ -61,6 +61,12 @@ def test_engine_benchmark_runs() -> None:
     assert out["machine"]["cores"] >= 1
 
 
+def test_traced_run_benchmark_runs() -> None:
+    out = json.loads(_script("bench_traced_run.py", "--runs", "1", "--planners", "none", "--json"))
+    assert len(out["rows"]) == 3  # the paper cases
+    assert all(row["identical"] and row["steps"] > 0 and row["compiled_median_s"] > 0 for row in out["rows"])
+
+
 def test_sweep_benchmark_runs() -> None:
     out = _script("bench_sweep.py", "--goal", "20", "--warmup", "0")
     assert "| 20 |" in out and "goal >= 20,000" in out
