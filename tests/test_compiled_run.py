@@ -101,15 +101,32 @@ def test_one_variant_trace_recorded_compiled_is_the_per_step_trace(planner, case
 
 
 @pytest.mark.parametrize("planner", PLANNERS)
-def test_one_variant_trace_with_realistic_sensor_and_channel(paper_pedestrian_dict, planner):
-    """Detections from a sensor that misses and lags, and V2X ages from a lossy, jittery channel (NaN: none)."""
-    one = pack([scenario_from_mapping(_realistic(paper_pedestrian_dict, 3, 14.0), "v3")])
-    compiled = simulate(_as_planner(one, planner), trace=True, compiled=True)
-    per_step = simulate(_as_planner(one, planner), trace=True, compiled=False)
+@pytest.mark.parametrize("v2x", [False, True])
+def test_batch_trace_recorded_compiled_is_the_per_step_trace(paper_batch, planner, v2x):
+    """A traced batch whose variants stop at different steps: as on the per-step path, the stopped ones go on
+    moving (and are recorded) until the last one stops, without adding to their results or transitions."""
+    batch = dataclasses.replace(_as_planner(paper_batch, planner), v2x_enabled=np.full(paper_batch.size, v2x))
+    compiled = simulate(batch, trace=True, compiled=True)
+    per_step = simulate(batch, trace=True, compiled=False)
     assert_same_trace(compiled, per_step)
     assert_identical(compiled, per_step)
-    ages = compiled.trace["vru_v2x_age_s"]
-    assert np.isnan(ages).any() and (ages > 0.0).any()
+    assert len(set(compiled.metrics.end_time_s.tolist())) > 1  # the variants stop at different steps
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
+def test_trace_with_realistic_sensor_and_channel(paper_pedestrian_dict, planner):
+    """Detections from a sensor that misses and lags, and V2X ages from a lossy, jittery channel (NaN: none),
+    for one variant and for a batch of six."""
+    scenarios = [
+        scenario_from_mapping(_realistic(paper_pedestrian_dict, seed, 11.0 + seed), f"v{seed}") for seed in range(6)
+    ]
+    for batch in (pack(scenarios[3:4]), pack(scenarios)):
+        compiled = simulate(_as_planner(batch, planner), trace=True, compiled=True)
+        per_step = simulate(_as_planner(batch, planner), trace=True, compiled=False)
+        assert_same_trace(compiled, per_step)
+        assert_identical(compiled, per_step)
+        ages = compiled.trace["vru_v2x_age_s"]
+        assert np.isnan(ages).any() and (ages > 0.0).any()
 
 
 def test_one_variant_trace_of_euro_ncap_tests_with_obstructions():
@@ -261,7 +278,7 @@ def test_transitions_beyond_the_buffer_limit_run_per_step(paper_batch, monkeypat
 def test_what_takes_the_per_step_path(paper_batch):
     fsm = make_planner("fsm")
     assert compiled_run.compiled_support(paper_batch, fsm, None, trace=False) is None
-    assert "trace" in compiled_run.compiled_support(paper_batch, fsm, None, trace=True)
+    assert compiled_run.compiled_support(paper_batch, fsm, None, trace=True) is None  # traces: compiled too
 
     class Braking(HoldSpeedPlanner):  # a subclass may act differently: never compiled
         pass
@@ -272,9 +289,7 @@ def test_what_takes_the_per_step_path(paper_batch):
     assert "act is replaced" in compiled_run.compiled_support(paper_batch, wrapped, None, trace=False)
     one = pack([paper_scenarios()[0][2]])
     assert (simulate(one, planner=wrapped, trace=True).trace["ego_command_mps2"] == -3.0).all()
-    with pytest.raises(ValueError, match="a trace is recorded"):
-        simulate(paper_batch, trace=True, compiled=True)
-    traced = simulate(paper_batch, trace=True)  # falls back by itself
+    traced = simulate(paper_batch, trace=True, compiled=True)
     assert_identical(simulate(paper_batch), simulate(paper_batch, compiled=False))
     untraced = simulate(paper_batch).metrics.values
     np.testing.assert_array_equal(traced.metrics.values[RESULT_ROWS], untraced[RESULT_ROWS], strict=True)

@@ -221,7 +221,7 @@ def test_a_registered_metric_is_in_the_episode_summary():
 
 _NEW_KERNEL_VERSIONS = """
 import sys, gymnasium, vrusim.gym
-from vrusim.api.compiling import _run_briefly, _warm_up_scenarios
+from vrusim.api.compiling import CompileTask, run_task
 from vrusim.kernels import BatchKernel
 
 def versions():
@@ -232,7 +232,7 @@ def versions():
                 kernels[f"{value.function.__module__}.{name}"] = len(value._serial.signatures)
     return kernels
 
-_run_briefly(_warm_up_scenarios("none"), trace=True)  # what `vrusim compile --part per-step` runs
+run_task(CompileTask(("per-step",), "none"))  # `vrusim compile --part per-step --planner none`
 before = versions()
 env = gymnasium.make("vrusim/PaperPedestrian-v0", v2x=True)
 env.reset(seed=0)

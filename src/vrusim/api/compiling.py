@@ -13,9 +13,9 @@ uses them, briefly, as the commands do. Each planner has up to three parts, run 
   every bundled scenario for two steps with V2X on;
 - `ncap`: the Euro NCAP grids of both editions, day and night, as `vrusim ncap` runs them (their drivers, doors,
   occluding obstacles and contact probes use kernels of their own);
-- `per-step`: traces (`vrusim run --trace/--plot/--animate`, `vrusim.run` of one scenario) and plug-in planners:
-  the per-step path on the bundled scenarios, and a one-variant trace, which a planner with a compiled step
-  records inside it, for two steps;
+- `per-step`: traces (`vrusim run --trace/--plot/--animate`, `vrusim.run` of one scenario) and the per-step path
+  (plug-in planners, the Gymnasium environments): the bundled scenarios with a trace on the per-step path and,
+  for a planner with a compiled step, on its traced version, for two steps;
 - `threaded`: the per-step path's multi-threaded kernels, which batches of `vrusim.kernels.PARALLEL_MIN_BATCH`
   variants or more run (a plug-in planner's large batches), on that many copies of them.
 
@@ -121,8 +121,8 @@ def run_task(task: CompileTask) -> float:
                 euro_ncap(planner=task.planner, night=True, protocol=protocol)
         elif part == "per-step":
             scenarios = _warm_up_scenarios(task.planner)
-            _run_briefly(scenarios, trace=True)
-            _run_briefly(scenarios[:1], trace=True)  # one variant: the compiled step records it (if it has one)
+            _run_briefly(scenarios, trace=True, compiled=False)  # the per-step path (plug-in planners, the Gym)
+            _run_briefly(scenarios, trace=True)  # a planner with a compiled step records its trace in it
         else:
             from vrusim.kernels import PARALLEL_MIN_BATCH
 

@@ -9,10 +9,10 @@ loop over (`*_variant`), called in the same order, so both paths give bit-identi
 stops at its own stop step instead of waiting to be compacted away. The kernels get most of their state laid
 out variant by variant (`VARIANT_MAJOR`), the layout that suits running one variant at a time.
 
-One variant's trace is recorded inside the kernel, row by row (`_trace_row`). What the compiled step does not
-cover runs the per-step path (`compiled_support` says why): a trace of more than one variant, a planner of
-another class (a subclass of a built-in too) or an instance whose `act` was replaced, a channel passed in, drivers
-and doors (`ego.driver`, `ego.door`), VRU motion models other than `point_mass`, and plug-in V2X loss models.
+A trace is recorded inside the kernel, row by row (`_traced`). What the compiled step does not cover runs the
+per-step path (`compiled_support` says why): a planner of another class (a subclass of a built-in too) or an
+instance whose `act` was replaced, a channel passed in, drivers and doors (`ego.driver`, `ego.door`), VRU motion
+models other than `point_mass`, and plug-in V2X loss models.
 """
 
 from __future__ import annotations
@@ -75,13 +75,7 @@ _OK, _BAD_COMMAND = 0, 1
 
 
 def compiled_support(batch: BatchParams, planner: object, channel: object, trace: bool) -> str | None:
-    """Why this run needs the per-step path (a short reason), or None when the compiled step can run it.
-
-    A trace is recorded compiled for one variant only: in a traced batch the per-step path keeps moving the
-    variants that have stopped until the last one stops, and records them; the compiled step stops each
-    variant at its own stop step."""
-    if trace and batch.size > 1:
-        return "a trace is recorded for more than one variant"
+    """Why this run needs the per-step path (a short reason), or None when the compiled step can run it."""
     if type(planner) not in COMPILED_PLANNERS:
         return f"planner {type(planner).__name__} has no compiled step"
     if "act" in getattr(planner, "__dict__", {}):
@@ -238,21 +232,35 @@ def _world_of(world_rows):  # pragma: no cover (compiled)
 
 @njit(cache=True, inline="always")
 def _finish(b, step, status, scratch, metrics):  # pragma: no cover (compiled)
-    """Variant b stopped after `step` steps (or could not go on: `status`)."""
+    """Variant b stopped after `step` steps (or could not go on: `status`); its step count is that of its first
+    stop (in a traced batch a stopped variant goes on moving: `_traced`)."""
+    if scratch[19][b]:
+        metrics[9][b] = step
     scratch[19][b] = False
-    metrics[9][b] = step
     metrics[11][b] = status
 
 
 @njit(cache=True, inline="always")
+def _traced(b, step, running, trace, world, v2x, vrus, ego, scratch, metrics):  # pragma: no cover (compiled)
+    """After step `step` of a traced run: write variant b's row, finish it at its own stop, and return whether its
+    loop goes on. As on the per-step path, whose traced batches are never compacted, a stopped variant goes on
+    moving, inactive (no results, no transitions), until the batch's last step `trace[2]` (0: stop with it)."""
+    _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+    if not running and scratch[19][b]:
+        _finish(b, step + 1, _OK, scratch, metrics)
+    return scratch[19][b] or step + 1 < trace[2]
+
+
+@njit(cache=True, inline="always")
 def _trace_row(b, step, trace, world, v2x, vrus, ego, scratch):  # pragma: no cover (compiled)
-    """Write row `step` of variant b's trace (`TraceRecorder.add`, the columns in `TRACE_COLUMNS`' order): the
-    state after the step, and the detections, V2X ages and planner mode of its start (the last entry of `trace`
-    is the planner's mode array, which the kernel updates)."""
+    """Write row `step` of variant b's trace (`TraceRecorder.add`, the columns `trace[0]` in `TRACE_COLUMNS`'
+    order): the state after the step, and the detections, V2X ages and planner mode (`trace[1]`, the planner's
+    mode array, which the kernel updates) of its start."""
     (
         t_s, ego_x, ego_y, heading_x, heading_y, speed, accel, command, curvature, station, mode,
-        vru_x, vru_y, vru_speed, detected, source, v2x_age, clearance, ttc, planner_mode,
-    ) = trace  # fmt: skip
+        vru_x, vru_y, vru_speed, detected, source, v2x_age, clearance, ttc,
+    ) = trace[0]  # fmt: skip
+    planner_mode = trace[1]
     t_s[step] = (step + 1) * world[0]
     ego_x[step, b], ego_y[step, b] = ego[12][b], ego[13][b]
     heading_x[step, b], heading_y[step, b] = ego[2][b], ego[3][b]
@@ -297,10 +305,11 @@ def _run_fsm(
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            _mode_changed(b, step, old, mode[b], metrics)
+            if trace is None or scratch[19][b]:  # a stopped variant of a traced batch records none
+                _mode_changed(b, step, old, mode[b], metrics)
             running = _advance(b, step, world, vrus, ego, scratch, metrics)
             if trace is not None:
-                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+                running = _traced(b, step, running, trace, world, v2x, vrus, ego, scratch, metrics)
             if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -318,7 +327,7 @@ def _run_none(
             command[b] = 0.0  # HoldSpeedPlanner without a driver
             running = _advance(b, step, world, vrus, ego, scratch, metrics)
             if trace is not None:
-                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+                running = _traced(b, step, running, trace, world, v2x, vrus, ego, scratch, metrics)
             if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -344,13 +353,15 @@ def _run_aeb(
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            _mode_changed(b, step, old, mode[b], metrics)
-            if mode[b] >= aeb.WARNING and np.isnan(values[FIRST_WARNING, b]):  # RunMetrics.record_warning
+            if trace is None or scratch[19][b]:  # a stopped variant of a traced batch records none
+                _mode_changed(b, step, old, mode[b], metrics)
+            warned = mode[b] >= aeb.WARNING and (trace is None or scratch[19][b])
+            if warned and np.isnan(values[FIRST_WARNING, b]):  # RunMetrics.record_warning
                 values[FIRST_WARNING, b] = step * dt
                 values[WARNING_TTC, b] = values[PREV_TTC, b]
             running = _advance(b, step, world, vrus, ego, scratch, metrics)
             if trace is not None:
-                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+                running = _traced(b, step, running, trace, world, v2x, vrus, ego, scratch, metrics)
             if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -385,10 +396,11 @@ def _run_predictive(
             if not np.isfinite(command[b]):
                 _finish(b, step, _BAD_COMMAND, scratch, metrics)
                 break
-            _mode_changed(b, step, old, mode[b], metrics)
+            if trace is None or scratch[19][b]:  # a stopped variant of a traced batch records none
+                _mode_changed(b, step, old, mode[b], metrics)
             running = _advance(b, step, world, vrus, ego, scratch, metrics)
             if trace is not None:
-                _trace_row(b, step, trace, world, v2x, vrus, ego, scratch)
+                running = _traced(b, step, running, trace, world, v2x, vrus, ego, scratch, metrics)
             if not running:
                 _finish(b, step + 1, _OK, scratch, metrics)
                 break
@@ -518,16 +530,24 @@ def run_compiled(
     batch: BatchParams, planner: PlannerBase, mode_count: int, trace: bool = False
 ) -> tuple[RunMetrics, int, dict[str, np.ndarray] | None] | None:
     """Run the batch with the planner's compiled step (the planner already reset): its metrics (`mode_count`
-    planner modes), the number of steps the batch took and, with `trace` (one variant: `compiled_support`), its
-    per-step trace (`TraceRecorder.finish`'s columns). A run in which some variant changed mode more often than
-    `TRANSITIONS_PER_VARIANT` is run again with room for all of them; None (run it per step) when that room would
-    exceed `TRANSITION_BUFFER_BYTES`. A non-finite command is reported like the per-step path does.
+    planner modes), the number of steps the batch took and, with `trace`, its per-step trace
+    (`TraceRecorder.finish`'s columns; a batch of several variants is run first without it, for its last step).
+    A run in which some variant changed mode more often than `TRANSITIONS_PER_VARIANT` is run again with room for
+    all of them; None (run it per step) when that room would exceed `TRANSITION_BUFFER_BYTES`. A non-finite
+    command is reported like the per-step path does.
     """
+    until = 0
+    if trace and batch.size > 1:  # the batch's last step, until which its stopped variants go on moving
+        untraced = run_compiled(batch, planner, mode_count)
+        if untraced is None:
+            return None
+        until = untraced[1]
+        planner.reset(batch)
     capacity = TRANSITIONS_PER_VARIANT
     while True:
         metrics = RunMetrics(batch, mode_count)
         columns = _new_trace(batch) if trace else None
-        steps, needed = _run_once(batch, planner, metrics, capacity, columns)
+        steps, needed = _run_once(batch, planner, metrics, capacity, columns, until)
         if needed <= capacity:
             recorded = None if columns is None else {name: column[:steps] for name, column in columns.items()}
             return metrics, steps, recorded
@@ -566,10 +586,11 @@ def _run_once(
     metrics: RunMetrics,
     capacity: int,
     trace: dict[str, np.ndarray] | None = None,
+    until: int = 0,
 ) -> tuple[int, int]:
     """One compiled run with room for `capacity` transitions a variant, filling `metrics` (and the `trace`
-    columns, when given): (steps the batch took, the most transitions a variant made); the transitions are in
-    `metrics` only when they all fitted."""
+    columns, when given, in which stopped variants go on moving until step `until`): (steps the batch took, the
+    most transitions a variant made); the transitions are in `metrics` only when they all fitted."""
     name = COMPILED_PLANNERS[type(planner)]
     variant_major = VARIANT_MAJOR[name]
     size, slots = batch.size, batch.vru_slots
@@ -616,7 +637,7 @@ def _run_once(
         np.zeros((size, capacity), dtype=np.int8), np.zeros(size, dtype=np.int64), steps_run, batch.dt_s, status,
     )  # fmt: skip
     plan = _planner_state(name, planner, batch)
-    traced = None if trace is None else (*trace.values(), planner.mode)
+    traced = None if trace is None else (tuple(trace.values()), planner.mode, until)
     arguments = (
         world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan, traced
     )  # fmt: skip
