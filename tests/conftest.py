@@ -172,11 +172,10 @@ else:
 
 # ------------------------------------------------------------------------------------- kernels compiled once
 # On a cold kernel cache (the first run after a source change, so every CI run) each worker would compile the
-# built-in planners' compiled steps itself, about 20-30 s each, and their traced versions
-# as well. The controller compiles them first with `vrusim compile --part compiled,per-step` (two processes at
-# once), before it starts the workers, which then load them from the cache. On a warm cache it only loads them
-# (about 5 s). Only for the whole suite (no test paths given): a single file after a source change compiles what
-# it uses.
+# built-in planners' compiled steps itself, about 20-30 s each, and their traced versions as well. The
+# controller compiles them first with `vrusim compile --part compiled,per-step` (two processes at once), before it
+# starts the workers, which then load them from the cache. On a warm cache it only loads them (about 5 s). Only
+# for the whole suite (no test paths given): a single file after a source change compiles what it uses.
 WARM_UP = [sys.executable, "-m", "vrusim", "compile", "--part", "compiled,per-step", "--jobs", "2"]
 _WARM_UP_TIMEOUT_S = 600.0
 """Longest the controller waits for the warm-up (about 2 minutes on a cold cache here), s."""

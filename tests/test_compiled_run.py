@@ -17,6 +17,7 @@ from conftest import deep_update
 from vrusim.engine import compiled_run
 from vrusim.engine.accumulators import ACCUMULATORS
 from vrusim.engine.simulate import BatchRun, simulate
+from vrusim.engine.trace_recorder import TRACE_COLUMNS
 from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import select
 from vrusim.paper.cases import paper_scenarios
@@ -78,7 +79,7 @@ def test_one_variant_identical(planner, case):
 def assert_same_trace(compiled: BatchRun, per_step: BatchRun) -> None:
     """The same columns in the same order, each of the same dtype and shape and bit for bit equal."""
     assert compiled.trace is not None and per_step.trace is not None
-    assert list(compiled.trace) == list(per_step.trace) == list(compiled_run.TRACE_COLUMNS)
+    assert list(compiled.trace) == list(per_step.trace) == list(TRACE_COLUMNS)
     for name, column in compiled.trace.items():
         other = per_step.trace[name]
         assert (column.dtype, column.shape) == (other.dtype, other.shape), name

@@ -35,6 +35,7 @@ from vrusim.engine.accumulators import (
 )
 from vrusim.engine.stepper import checked_planner_command
 from vrusim.engine.surrogates import surrogates_variant
+from vrusim.engine.trace_recorder import TRACE_COLUMNS
 from vrusim.geometry.contact import clearance_variant
 from vrusim.geometry.ttc import ttc_variant
 from vrusim.kernels import njit
@@ -561,22 +562,13 @@ TRANSITION_BYTES = 10
 """Bytes of one recorded transition: step (int64), old and new mode (int8)."""
 
 
-TRACE_COLUMNS = (
-    "t_s", "ego_x_m", "ego_y_m", "ego_heading_x", "ego_heading_y", "ego_speed_mps", "ego_accel_mps2",
-    "ego_command_mps2", "ego_curvature_per_m", "ego_station_m", "planner_mode", "vru_x_m", "vru_y_m",
-    "vru_speed_mps", "vru_detected", "vru_source", "vru_v2x_age_s", "clearance_m", "ttc_s",
-)  # fmt: skip
-"""The columns of a compiled trace, in `TraceRecorder.add`'s order (no driver or door: those run per step)."""
-_TRACE_DTYPES = {"planner_mode": np.int8, "vru_detected": np.bool_, "vru_source": np.int8}
-
-
 def _new_trace(batch: BatchParams) -> dict[str, np.ndarray]:
     """Empty trace columns with a row for every step the batch may take: [steps], [steps, B] or [steps, B, K]."""
     steps, size, slots = batch.n_steps, batch.size, batch.vru_slots
     columns = {}
-    for name in TRACE_COLUMNS:
+    for name, dtype in TRACE_COLUMNS.items():
         shape = (steps,) if name == "t_s" else (steps, size, slots) if name.startswith("vru_") else (steps, size)
-        columns[name] = np.empty(shape, dtype=_TRACE_DTYPES.get(name, np.float64))
+        columns[name] = np.empty(shape, dtype=dtype)
     return columns
 
 

@@ -25,6 +25,17 @@ TRACE_COPIES = 2
 """Copies of a trace counted: the recorded arrays and one more (a trace file or a plot is made from a copy)."""
 GROWTH_ROWS = 1024
 """Rows a recorder without a known length allocates first (then doubles)."""
+TRACE_COLUMNS: dict[str, type] = {
+    "t_s": np.float64, "ego_x_m": np.float64, "ego_y_m": np.float64, "ego_heading_x": np.float64,
+    "ego_heading_y": np.float64, "ego_speed_mps": np.float64, "ego_accel_mps2": np.float64,
+    "ego_command_mps2": np.float64, "ego_curvature_per_m": np.float64, "ego_station_m": np.float64,
+    "planner_mode": np.int8, "vru_x_m": np.float64, "vru_y_m": np.float64, "vru_speed_mps": np.float64,
+    "vru_detected": np.bool_, "vru_source": np.int8, "vru_v2x_age_s": np.float64, "clearance_m": np.float64,
+    "ttc_s": np.float64,
+}  # fmt: skip
+"""The columns `TraceRecorder.add` records, in its order, with their dtypes, besides a driver's and a door's;
+the compiled step writes the same (`engine.compiled_run`). Shapes: t_s [rows], vru_* [rows, B, K], the others
+[rows, B]."""
 
 
 def trace_bytes(steps: int, variants: int, vru_slots: int) -> int:
