@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import importlib
+import itertools
 import subprocess
 import sys
 
@@ -187,6 +188,48 @@ def test_variant_major_arrays_keep_room_for_two_variants():
     assert copy.flags.f_contiguous
     assert compiled_run._state_copy(rows, False) is rows
     assert set(compiled_run.VARIANT_MAJOR) == set(compiled_run._KERNELS)
+
+
+@given(size=st.integers(1, 20_000), threads=st.integers(1, 8))
+def test_chunk_order_covers_every_variant_once_and_starts_the_threads_far_apart(size, threads):
+    order = compiled_run.chunk_order(size, threads)
+    ranked = sorted(order)
+    assert ranked[0][0] == 0 and ranked[-1][1] == size
+    assert all(stop == next_first for (_, stop), (next_first, _) in itertools.pairwise(ranked))
+    assert all(stop - first >= compiled_run.MIN_CHUNK for first, stop in ranked[:-1])
+    # the chunks taken together, one a thread, start the threads' runs: a run's length apart
+    together = min(threads, len(order))
+    run_length = len(order) // threads
+    starts = [first for first, _ in order[:together]]
+    chunk = ranked[0][1] - ranked[0][0]
+    assert starts == sorted(starts)
+    assert all(b - a >= run_length * chunk for a, b in itertools.pairwise(starts))
+
+
+def test_chunk_order_of_a_sweep_batch_on_two_threads():
+    """The sweep's batch of 2,500 on two threads: 16 chunks of 157, taken in turn from the two halves."""
+    order = compiled_run.chunk_order(2500, 2)
+    assert order[:4] == [(0, 157), (1256, 1413), (157, 314), (1413, 1570)]
+    assert order[-2:] == [(1099, 1256), (2355, 2500)]
+
+
+def test_a_run_over_chunks_on_two_threads_is_the_one_thread_run(paper_pedestrian_dict):
+    """Which thread runs which variants does not change results: 300 varied variants in chunks of 64."""
+    numba = pytest.importorskip("numba")
+    scenarios = []
+    for i in range(300):
+        data = deep_update(copy.deepcopy(paper_pedestrian_dict), {"ego": {"cruise_speed_mps": 8.0 + i * 0.04}})
+        scenarios.append(scenario_from_mapping(data, f"v{i}"))
+    batch = pack(scenarios)
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        alone = simulate(batch, compiled=True)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        together = simulate(batch, compiled=True)
+    finally:
+        numba.set_num_threads(before)
+    assert_identical(together, alone)
 
 
 @pytest.mark.parametrize("planner", ["fsm", "aeb"])

@@ -650,12 +650,22 @@ MIN_CHUNK = 64
 """Fewest variants per chunk (a chunk costs a few microseconds to start)."""
 
 
-def _over_threads(kernel, size: int, arguments: tuple) -> None:
-    """Run `kernel(first, stop, *arguments)` over chunks of the variants on numba's thread count (the kernels
-    release the GIL); one thread runs it whole."""
-    threads = numba.get_num_threads()
+def chunk_order(size: int, threads: int) -> list[tuple[int, int]]:
+    """The chunks `(first, stop)` of `size` variants in the order `threads` threads take them: in turn from
+    `threads` equal runs of consecutive chunks, so that chunks running at the same time lie far apart in memory.
+    (Taken in plain order, the threads worked on variants one chunk apart, whose fields share cache lines: a
+    batch of 2,500 ran 4–6 % slower on two threads.)"""
     chunk = max(MIN_CHUNK, -(-size // (threads * CHUNKS_PER_THREAD)))
     bounds = [(first, min(first + chunk, size)) for first in range(0, size, chunk)]
+    runs = [bounds[len(bounds) * run // threads : len(bounds) * (run + 1) // threads] for run in range(threads)]
+    return [run[taken] for taken in range(max(map(len, runs))) for run in runs if taken < len(run)]
+
+
+def _over_threads(kernel, size: int, arguments: tuple) -> None:
+    """Run `kernel(first, stop, *arguments)` over chunks of the variants (`chunk_order`) on numba's thread count
+    (the kernels release the GIL); one thread runs it whole."""
+    threads = numba.get_num_threads()
+    bounds = chunk_order(size, threads)
     if threads == 1 or len(bounds) == 1:
         kernel(0, size, *arguments)
         return
