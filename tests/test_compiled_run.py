@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import deep_update
+from conftest import REPO_ROOT, deep_update
 from vrusim.engine import compiled_run
 from vrusim.engine.accumulators import ACCUMULATORS
 from vrusim.engine.simulate import BatchRun, simulate
@@ -23,9 +23,11 @@ from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import select
 from vrusim.paper.cases import paper_scenarios
 from vrusim.planners.base import HoldSpeedPlanner
+from vrusim.planners.fsm import FsmPlanner
 from vrusim.planners.registry import make_planner
-from vrusim.scenario.loading import scenario_from_mapping
+from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.sensing.registry import register_sensor_model, unregister_sensor_model
 
 PLANNERS = ("fsm", "none", "aeb", "predictive")
 RESULT_ROWS = [i for i, row in enumerate(ACCUMULATORS) if row.reduce != "carry"]
@@ -340,6 +342,58 @@ def test_what_takes_the_per_step_path(paper_batch):
     assert_identical(simulate(paper_batch), simulate(paper_batch, compiled=False))
     untraced = simulate(paper_batch).metrics.values
     np.testing.assert_array_equal(traced.metrics.values[RESULT_ROWS], untraced[RESULT_ROWS], strict=True)
+
+
+def test_a_planner_class_whose_act_was_replaced_runs_per_step(monkeypatch):
+    """A built-in planner class whose `act` was replaced (a mock, instrumentation) is not what its compiled step
+    computes: traced or not, the replacement runs."""
+    one = pack([paper_scenarios()[0][2]])
+    monkeypatch.setattr(FsmPlanner, "act", lambda self, observation: np.full(observation.ego_speed_mps.shape, -2.0))
+    assert "replaced on the class" in compiled_run.compiled_support(one, make_planner("fsm"), None, trace=True)
+    traced = simulate(one, trace=True)
+    assert (traced.trace["ego_command_mps2"] == -2.0).all()
+    assert_identical(simulate(one), simulate(one, compiled=False))
+    with pytest.raises(ValueError, match="replaced on the class"):
+        simulate(one, compiled=True)
+
+
+def test_a_plug_in_sensor_model_runs_per_step(paper_batch):
+    """A registered sensor model (docs/models.md, "Adding a sensor model") is not computed by the compiled step:
+    the run goes per step, so the plug-in decides what is detected."""
+
+    class Blind:  # detects nothing
+        def reset(self, params):
+            pass
+
+        def observe(self, step, t_s, visible, truth):
+            return np.zeros_like(visible), truth
+
+        def age_s(self, step, dt_s):
+            return None
+
+    register_sensor_model("blind", lambda params: True, Blind)
+    try:
+        assert "'blind'" in compiled_run.compiled_support(paper_batch, make_planner("fsm"), None, trace=False)
+        blind = simulate(paper_batch)
+        traced = simulate(paper_batch, trace=True)
+        with pytest.raises(ValueError, match="plug-in sensor model 'blind'"):
+            simulate(paper_batch, compiled=True)
+    finally:
+        unregister_sensor_model("blind")
+    assert np.isnan(blind.metrics.first_sensor_s).all() and np.isnan(traced.metrics.first_sensor_s).all()
+    assert np.isfinite(simulate(paper_batch).metrics.first_sensor_s).any()  # the ideal sensor sees them
+
+
+def test_an_aeb_planner_after_a_compiled_run_holds_its_last_warnings():
+    """The planner's `warning` after a run is what its own `act` left: the last step's FCW of each variant."""
+    bundled = sorted((REPO_ROOT / "scenarios").glob("*/*.yaml"))  # two of them end warning
+    batch = _as_planner(pack([load_scenario(path) for path in bundled]), "aeb")
+    compiled, per_step = make_planner("aeb"), make_planner("aeb")
+    simulate(batch, planner=compiled, trace=True, compiled=True)
+    simulate(batch, planner=per_step, trace=True, compiled=False)
+    np.testing.assert_array_equal(compiled.mode, per_step.mode)
+    np.testing.assert_array_equal(compiled.warning, per_step.warning)
+    assert compiled.warning.any()
 
 
 def test_variants_with_drivers_or_doors_run_per_step_and_the_others_compiled(monkeypatch):

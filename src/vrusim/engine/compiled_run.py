@@ -49,6 +49,7 @@ from vrusim.sim.ego import ego_variant
 from vrusim.sim.observation import fuse_variant
 from vrusim.sim.params import BatchParams
 from vrusim.sim.sensing.occlusion import occlude_variant
+from vrusim.sim.sensing.registry import sensor_model_entry
 from vrusim.sim.sensing.sector import perceived_variant
 from vrusim.sim.sensing.sensor_model import observe_variant
 from vrusim.sim.state import initial_ego, initial_vrus
@@ -65,6 +66,11 @@ COMPILED_PLANNERS: dict[type, str] = {
     PredictivePlanner: "predictive",
 }
 """Planner classes with a compiled step (exactly these classes: a subclass may change `act`)."""
+_COMPILED_ACTS = {planner_class: planner_class.act for planner_class in COMPILED_PLANNERS}
+"""Each class's own `act`, which its compiled step does: a class whose `act` was replaced since (a mock, a
+wrapper for instrumentation) runs per step."""
+BUILTIN_SENSOR_MODELS = ("ideal", "realistic")
+"""The sensor models the compiled step computes; a registered plug-in sensor model runs per step."""
 TRANSITIONS_PER_VARIANT = 64
 """Mode transitions each variant has room for in a first compiled run; a run in which some variant made more
 (an AEB chattering between warning and cruise makes 57 in the engine benchmark) counts them all and is run again
@@ -81,12 +87,17 @@ def compiled_support(batch: BatchParams, planner: object, channel: object, trace
         return f"planner {type(planner).__name__} has no compiled step"
     if "act" in getattr(planner, "__dict__", {}):
         return f"planner {type(planner).__name__}'s act is replaced on the instance"
+    if type(planner).act is not _COMPILED_ACTS[type(planner)]:
+        return f"planner {type(planner).__name__}'s act is replaced on the class"
     if channel is not None:
         return "a channel object was passed in"
     if batch.vru_motion != POINT_MASS:
         return f"VRU motion model {batch.vru_motion!r}"
     if batch.driver.has.any() or batch.door.has.any():
         return "drivers or doors (ego.driver, ego.door)"
+    sensor_model = sensor_model_entry(batch).name
+    if sensor_model not in BUILTIN_SENSOR_MODELS:
+        return f"the plug-in sensor model {sensor_model!r}"
     made = make_channel(batch)
     if isinstance(made, RealisticChannel):
         made.reset(batch)
@@ -634,6 +645,8 @@ def _run_once(
         world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan, traced
     )  # fmt: skip
     _over_threads(_KERNELS[name], size, arguments)
+    if name == "aeb":  # what the planner's own `act` leaves after a step
+        planner.warning = planner.mode >= aeb.WARNING
     if variant_major:
         metrics.values[:SURROGATE_START], metrics.values[SURROGATE_START:] = values[:, :size], surrogates[:, :size]
     if (status == _BAD_COMMAND).any():
