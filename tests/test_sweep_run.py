@@ -9,6 +9,7 @@ import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -23,6 +24,7 @@ from conftest import PAPER_DIR, REPO_ROOT
 from vrusim.engine.simulate import simulate
 from vrusim.metrics.summary import summary_rows
 from vrusim.ncap.grid import run_tests, select
+from vrusim.sweep import execute
 from vrusim.sweep.design import make_design
 from vrusim.sweep.execute import cpu_count
 from vrusim.sweep.plan import VariantBuilder, make_plan
@@ -375,6 +377,46 @@ def test_automatic_workers_run_compiled_batches_in_this_process(tmp_path):
 def test_automatic_workers_give_the_same_results(reference, tmp_path):
     run_sweep(load_spec(write_spec(tmp_path)), tmp_path / "out", workers=0)
     assert results(tmp_path / "out").equals(reference)
+
+
+class _Batches:
+    """A stand-in for `run_chunk` that records which batches ran at once, and fails on batch `fail`."""
+
+    def __init__(self, fail: int | None = None) -> None:
+        self.fail, self.lock, self.running, self.most, self.started = fail, threading.Lock(), 0, 0, []
+
+    def __call__(self, task: int) -> int:
+        with self.lock:
+            self.running += 1
+            self.most = max(self.most, self.running)
+            self.started.append(task)
+        time.sleep(0.02)
+        with self.lock:
+            self.running -= 1
+        if task == self.fail:
+            raise RuntimeError(f"batch {task} failed")
+        return task * 10
+
+
+def test_in_process_batches_run_two_at_once_and_are_stored_in_order(monkeypatch):
+    batches = _Batches()
+    monkeypatch.setattr(execute, "run_chunk", batches)
+    stored = []
+    execute.run_serial(range(7), lambda task, table: stored.append((task, table, threading.current_thread())))
+    assert [(task, table) for task, table, _ in stored] == [(i, i * 10) for i in range(7)]
+    assert {thread for _, _, thread in stored} == {threading.main_thread()}  # stored by the calling thread
+    assert batches.most == execute.IN_FLIGHT_IN_PROCESS == 2
+
+
+def test_after_an_in_process_batch_fails_no_new_batch_starts(monkeypatch):
+    batches = _Batches(fail=2)
+    monkeypatch.setattr(execute, "run_chunk", batches)
+    stored = []
+    with pytest.raises(RuntimeError, match="batch 2 failed"):
+        execute.run_serial(range(9), lambda task, table: stored.append(task))
+    assert stored == [0, 1]
+    assert sorted(batches.started) in ([0, 1, 2], [0, 1, 2, 3])  # the one in flight beside it may have started
+    assert batches.running == 0  # it was waited for
 
 
 def test_parquet_files_dictionary_encode_only_text_columns(tmp_path):

@@ -1,6 +1,7 @@
 """Run sweep batches: in this process, in local worker processes, or on a Dask cluster — same results.
 
-Each finished batch is handed to `on_done` in the calling process (which writes it), in completion order.
+Each finished batch is handed to `on_done` in the calling process (which writes it): in completion order from
+workers, in the batches' order when they run in this process.
 Local workers are spawned (not forked: the compiled kernels' thread pools do not survive a fork); each gets
 an equal share of the cores as numba threads. A worker that dies (killed, out of memory) breaks the local
 pool: the pool is restarted and its unfinished batches run again, at most `MAX_POOL_RESTARTS` times. On a
@@ -11,8 +12,9 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+from collections import deque
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from types import ModuleType
 from typing import Any
@@ -29,6 +31,9 @@ CONNECT_TIMEOUT_S = 10
 """Seconds to wait for a Dask scheduler to answer."""
 IN_FLIGHT_PER_WORKER = 2
 """Batches queued per local worker: keeps workers busy while bounding memory to a few batches each."""
+IN_FLIGHT_IN_PROCESS = 2
+"""Batches run at once in this process: while one's Python work (reading, packing, tabulating) runs, the other's
+kernels, which release the GIL, keep the cores busy."""
 
 OnDone = Callable[[ChunkTask, pa.Table], None]
 
@@ -46,9 +51,22 @@ def cpu_count() -> int:
 
 
 def run_serial(tasks: Iterable[ChunkTask], on_done: OnDone) -> None:
-    """Every batch in this process, one after the other (the kernels use all cores)."""
-    for task in tasks:
-        on_done(task, run_chunk(task))
+    """Every batch in this process (the kernels use all cores), `IN_FLIGHT_IN_PROCESS` at once on threads;
+    `on_done` runs in this thread, in the batches' order. After a batch fails, no new one starts."""
+    pending: deque[tuple[ChunkTask, Future]] = deque()
+    with ThreadPoolExecutor(IN_FLIGHT_IN_PROCESS, thread_name_prefix="vrusim-batch") as pool:
+        try:
+            for task in tasks:
+                pending.append((task, pool.submit(run_chunk, task)))
+                if len(pending) == IN_FLIGHT_IN_PROCESS:
+                    done, future = pending.popleft()
+                    on_done(done, future.result())
+            while pending:
+                done, future = pending.popleft()
+                on_done(done, future.result())
+        except BaseException:
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
 
 
 def _with_threads(task: ChunkTask, threads: int) -> ChunkTask:
