@@ -402,7 +402,7 @@ def test_in_process_batches_run_two_at_once_and_are_stored_in_order(monkeypatch)
     batches = _Batches()
     monkeypatch.setattr(execute, "run_chunk", batches)
     stored = []
-    execute.run_serial(range(7), lambda task, table: stored.append((task, table, threading.current_thread())))
+    execute.run_in_process(range(7), lambda task, table: stored.append((task, table, threading.current_thread())))
     assert [(task, table) for task, table, _ in stored] == [(i, i * 10) for i in range(7)]
     assert {thread for _, _, thread in stored} == {threading.main_thread()}  # stored by the calling thread
     assert batches.most == execute.IN_FLIGHT_IN_PROCESS == 2
@@ -413,7 +413,7 @@ def test_after_an_in_process_batch_fails_no_new_batch_starts(monkeypatch):
     monkeypatch.setattr(execute, "run_chunk", batches)
     stored = []
     with pytest.raises(RuntimeError, match="batch 2 failed"):
-        execute.run_serial(range(9), lambda task, table: stored.append(task))
+        execute.run_in_process(range(9), lambda task, table: stored.append(task))
     assert stored == [0, 1]
     assert sorted(batches.started) in ([0, 1, 2], [0, 1, 2, 3])  # the one in flight beside it may have started
     assert batches.running == 0  # it was waited for

@@ -50,7 +50,7 @@ def cpu_count() -> int:
         return os.cpu_count() or 1
 
 
-def run_serial(tasks: Iterable[ChunkTask], on_done: OnDone) -> None:
+def run_in_process(tasks: Iterable[ChunkTask], on_done: OnDone) -> None:
     """Every batch in this process (the kernels use all cores), `IN_FLIGHT_IN_PROCESS` at once on threads;
     `on_done` runs in this thread, in the batches' order. After a batch fails, no new one starts."""
     pending: deque[tuple[ChunkTask, Future]] = deque()

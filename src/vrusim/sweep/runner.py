@@ -22,7 +22,7 @@ from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
 from vrusim.sweep.design import design_rows, make_design, preflight_rows
-from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_processes, run_serial
+from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_in_process, run_processes
 from vrusim.sweep.plan import PlannedSweep, SweepPlan, VariantBuilder, check_budgets, make_plan
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
@@ -376,7 +376,7 @@ def _execute(
     if client is not None:
         run_dask(tasks, client, on_done)
     elif workers == 1 or len(pending) <= 1:  # one batch: spawning a worker would only add its start-up
-        run_serial(tasks, on_done)
+        run_in_process(tasks, on_done)
     else:
         run_processes(tasks, workers, on_done)
     return pending, finished, int(done_variants)
