@@ -384,13 +384,16 @@ class _Batches:
 
     def __init__(self, fail: int | None = None) -> None:
         self.fail, self.lock, self.running, self.most, self.started = fail, threading.Lock(), 0, 0, []
+        self.first_two = threading.Barrier(2, timeout=30)  # batches 0 and 1 wait for each other: both run at once
 
     def __call__(self, task: int) -> int:
         with self.lock:
             self.running += 1
             self.most = max(self.most, self.running)
             self.started.append(task)
-        time.sleep(0.02)
+        if task < 2:
+            self.first_two.wait()
+        time.sleep(0.01)
         with self.lock:
             self.running -= 1
         if task == self.fail:
