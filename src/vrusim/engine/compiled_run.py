@@ -645,8 +645,6 @@ def _run_once(
         world, _sensor_tuple(batch), _v2x_tuple(batch), vru_tuple, ego_rows, scratch, metrics_tuple, plan, traced
     )  # fmt: skip
     _over_threads(_KERNELS[name], size, arguments)
-    if name == "aeb":  # what the planner's own `act` leaves after a step
-        planner.warning = planner.mode >= aeb.WARNING
     if variant_major:
         metrics.values[:SURROGATE_START], metrics.values[SURROGATE_START:] = values[:, :size], surrogates[:, :size]
     if (status == _BAD_COMMAND).any():

@@ -106,10 +106,15 @@ class AebPlanner(PlannerBase):
         self.table = param_table(validate_params(self.params_model, params), PARAM_ORDER)
         self.half_length, self.rear_to_centre = params.half_length_m, params.rear_to_centre_m
         self.mode = np.zeros(params.size, dtype=np.int8)
-        self.warning = np.zeros(params.size, dtype=bool)
         self.ttc_s = np.full(params.size, np.inf)
         """The smallest route TTC of the last step, s (inf: no threat)."""
         self.tracks: np.ndarray | None = None
+
+    @property
+    def warning(self) -> np.ndarray:  # type: ignore[override]
+        """FCW per variant, bool [B]: on in every stage from `warning` up (derived from `mode`, so it is current
+        after any step, per step or compiled)."""
+        return self.mode >= WARNING
 
     def compact(self, index: np.ndarray) -> None:
         """Keep only variants `index` (the engine drops stopped ones)."""
@@ -143,7 +148,6 @@ class AebPlanner(PlannerBase):
             driver_accel,
             command,
         )
-        self.warning = self.mode >= WARNING
         return command
 
 
