@@ -286,9 +286,17 @@ def _trace_row(b, step, trace, world, v2x, vrus, ego, scratch):  # pragma: no co
         vru_x[step, b, k], vru_y[step, b, k], vru_speed[step, b, k] = kin[0, b, k], kin[1, b, k], vrus[16][b, k]
         detected[step, b, k], source[step, b, k] = scratch[10][b, k], scratch[11][b, k]
         v2x_age[step, b, k] = age[b, k] if received[b, k] else np.nan
-        nearest = min(nearest, scratch[13][0][b, k])
-        soonest = min(soonest, scratch[14][b, k])
+        nearest = numpy_min(nearest, scratch[13][0][b, k])
+        soonest = numpy_min(soonest, scratch[14][b, k])
     clearance[step, b], ttc[step, b] = nearest, soonest
+
+
+@njit(cache=True, inline="always")
+def numpy_min(so_far, value):  # pragma: no cover (compiled)
+    """One step of NumPy's `min` reduction (`np.minimum`), which the per-step recorder's `.min(axis=1)` takes:
+    `so_far` unless `value` is smaller or `so_far` is NaN. A NaN anywhere gives NaN, and of two equal values (0.0
+    and -0.0) the later is kept; Python's `min` does neither."""
+    return so_far if (so_far < value or np.isnan(so_far)) else value
 
 
 # ---------------------------------------------------------------------------------------------------------------
