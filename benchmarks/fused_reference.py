@@ -27,7 +27,6 @@ same batch, so that the two really do the same work.
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import time
@@ -38,6 +37,7 @@ from numba import njit, prange
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_engine import packed_batch, shortened  # the same batch as the engine benchmark
+from machine import kernel_options
 
 # paper pedestrian case, fixed for every variant (m, s, m/s, m/s^2)
 EGO_HALF_LENGTH_M, EGO_HALF_WIDTH_M, REAR_TO_CENTRE_M = 2.25, 0.9, 1.35
@@ -172,10 +172,7 @@ def best_time(function, repeats: int) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--batch", type=int, default=10_000)
-    parser.add_argument("--steps", type=int, default=1000)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser = kernel_options(__doc__.splitlines()[0], batch=10_000, repeats=3, json_output=False)
     parser.add_argument("--check", action="store_true", help="compare outcomes with vrusim's")
     args = parser.parse_args()
     from vrusim.engine.simulate import simulate

@@ -6,7 +6,9 @@ Numba versions, and the Numba thread count the benchmark's processes get (NUMBA_
 
 from __future__ import annotations
 
+import argparse
 import datetime
+import json
 import os
 import platform
 from pathlib import Path
@@ -55,3 +57,28 @@ def markdown_table(columns: list[str], rows: list[list[str]], right: set[int] | 
     rule = ["---:" if j in right else "---" for j in range(len(columns))]
     lines = [columns, rule, *rows]
     return "\n".join("| " + " | ".join(str(cell) for cell in line) + " |" for line in lines)
+
+
+def kernel_options(
+    description: str, batch: int = 2000, repeats: int = 5, json_output: bool = True
+) -> argparse.ArgumentParser:
+    """The options of the kernel benchmarks: --batch (variants), --steps, --repeats (the best one counts) and, with
+    `json_output`, --json (`print_rows`)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--batch", type=int, default=batch)
+    parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--repeats", type=int, default=repeats)
+    if json_output:
+        parser.add_argument("--json", action="store_true")
+    return parser
+
+
+def print_rows(args: argparse.Namespace, rows: list[dict], title: str, columns: list[str], table: list) -> None:
+    """The rows as JSON with the machine (`args.json`), else the title, the machine's header and the table."""
+    if args.json:
+        print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
+        return
+    print(f"{title}, B = {args.batch:,}, {args.steps:,} steps, best of {args.repeats}")
+    print(header())
+    print()
+    print(markdown_table(columns, table))

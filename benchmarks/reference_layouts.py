@@ -20,9 +20,7 @@ time to the reference's bounds what a change of layout alone could gain the engi
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
-import json
 import math
 import re
 import sys
@@ -35,7 +33,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import fused_reference
 from bench_engine import speeds
-from machine import header, machine, markdown_table
+from machine import kernel_options, print_rows
 
 SETTINGS = (
     "EGO_HALF_LENGTH_M", "EGO_HALF_WIDTH_M", "REAR_TO_CENTRE_M", "EGO_Y_M", "EGO_START_X_M", "MAX_ACCEL",
@@ -155,25 +153,15 @@ def measure(batch: int, n_steps: int, repeats: int, dt: float = 0.01, parallel: 
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--batch", type=int, default=2000)
-    parser.add_argument("--steps", type=int, default=1000)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--json", action="store_true")
-    args = parser.parse_args()
+    args = kernel_options(__doc__.splitlines()[0]).parse_args()
     rows = measure(args.batch, args.steps, args.repeats)
-    if args.json:
-        print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
-        return
-    print(f"The fused reference in four layouts, B = {args.batch:,}, {args.steps:,} steps, best of {args.repeats}")
-    print(header())
-    print()
     table = [
         (r["layout"], f"{r['seconds']:.3f}", f"{r['ns_per_variant_step']:.1f}", f"{r['time_vs_constants']:.2f}×",
          "yes" if r["identical"] else "NO")
         for r in rows
     ]  # fmt: skip
-    print(markdown_table(["layout", "wall s", "ns a variant-step", "time / constants", "identical results"], table))
+    columns = ["layout", "wall s", "ns a variant-step", "time / constants", "identical results"]
+    print_rows(args, rows, "The fused reference in four layouts", columns, table)
 
 
 if __name__ == "__main__":

@@ -19,8 +19,6 @@ what restructuring the whole step into vector lanes could give.
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
 import sys
 import time
@@ -31,8 +29,7 @@ from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_engine import speeds
-from machine import header, machine, markdown_table
-
+from machine import kernel_options, print_rows
 from vrusim.geometry.contact import clearance_local, to_local
 from vrusim.geometry.ttc import ttc_local
 
@@ -114,26 +111,15 @@ def measure(batch: int, n_steps: int, repeats: int) -> list[dict]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--batch", type=int, default=2000)
-    parser.add_argument("--steps", type=int, default=1000)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--json", action="store_true")
-    args = parser.parse_args()
+    args = kernel_options(__doc__.splitlines()[0]).parse_args()
     rows = measure(args.batch, args.steps, args.repeats)
-    if args.json:
-        print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
-        return
-    print(f"Contact geometry in two loop orders, B = {args.batch:,}, {args.steps:,} steps, best of {args.repeats}")
-    print(header())
-    print()
     table = [
         (r["order"], f"{r['seconds']:.4f}", f"{r['ns_per_variant_step']:.2f}", f"{r['speed_up']:.2f}×",
          str(r["packed_instructions"]), "yes" if r["identical"] else "NO")
         for r in rows
     ]  # fmt: skip
     columns = ["loop order", "wall s", "ns a variant-step", "speed-up", "packed instructions", "identical results"]
-    print(markdown_table(columns, table))
+    print_rows(args, rows, "Contact geometry in two loop orders", columns, table)
 
 
 if __name__ == "__main__":
