@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from numba import njit
 
 from conftest import REPO_ROOT, deep_update
 from vrusim.engine import compiled_run
@@ -420,18 +419,6 @@ def test_variants_with_drivers_or_doors_run_per_step_and_the_others_compiled(mon
         simulate(batch, compiled=True)  # the whole batch compiled: still refused
 
 
-@njit(cache=False)
-def _reduce_rows(values: np.ndarray) -> np.ndarray:
-    """Each row's minimum as `_trace_row` takes it: starting from its first slot, `numpy_min` over all."""
-    out = np.empty(values.shape[0])
-    for b in range(values.shape[0]):
-        so_far = values[b, 0]
-        for k in range(values.shape[1]):
-            so_far = compiled_run.numpy_min(so_far, values[b, k])
-        out[b] = so_far
-    return out
-
-
 _SLOT_VALUES = st.one_of(st.sampled_from([0.0, -0.0, np.nan, np.inf, -np.inf, 1.0]), st.floats(-1e3, 1e3))
 
 
@@ -446,5 +433,5 @@ def test_a_traced_rows_minimum_is_the_per_step_recorders_bit_for_bit(rows: list[
     per-step recorder, NaN and signed zeros included (Python's `min` skips a NaN after the first slot and keeps
     the first of two equal zeros)."""
     values = np.array(rows)
-    expected = values.min(axis=1)
-    np.testing.assert_array_equal(_reduce_rows(values).view(np.int64), expected.view(np.int64))
+    taken = np.array([compiled_run.slots_minimum(values, b) for b in range(values.shape[0])])
+    np.testing.assert_array_equal(taken.view(np.int64), values.min(axis=1).view(np.int64))

@@ -281,22 +281,24 @@ def _trace_row(b, step, trace, world, v2x, vrus, ego, scratch):  # pragma: no co
     kin, received, age = vrus[17], scratch[4], scratch[20]  # the ideal channel: what was sent, at age 0
     if v2x[6]:
         received, age = scratch[7], scratch[9]
-    nearest, soonest = scratch[13][0][b, 0], scratch[14][b, 0]
     for k in range(kin.shape[2]):
         vru_x[step, b, k], vru_y[step, b, k], vru_speed[step, b, k] = kin[0, b, k], kin[1, b, k], vrus[16][b, k]
         detected[step, b, k], source[step, b, k] = scratch[10][b, k], scratch[11][b, k]
         v2x_age[step, b, k] = age[b, k] if received[b, k] else np.nan
-        nearest = numpy_min(nearest, scratch[13][0][b, k])
-        soonest = numpy_min(soonest, scratch[14][b, k])
-    clearance[step, b], ttc[step, b] = nearest, soonest
+    clearance[step, b], ttc[step, b] = slots_minimum(scratch[13][0], b), slots_minimum(scratch[14], b)
 
 
 @njit(cache=True, inline="always")
-def numpy_min(so_far, value):  # pragma: no cover (compiled)
-    """One step of NumPy's `min` reduction (`np.minimum`), which the per-step recorder's `.min(axis=1)` takes:
-    `so_far` unless `value` is smaller or `so_far` is NaN. A NaN anywhere gives NaN, and of two equal values (0.0
-    and -0.0) the later is kept; Python's `min` does neither."""
-    return so_far if (so_far < value or np.isnan(so_far)) else value
+def slots_minimum(values, b):  # pragma: no cover (compiled)
+    """The smallest of variant b's values over the VRU slots (`values` [B, K]) as NumPy's `.min(axis=1)` takes it,
+    which the per-step recorder uses: NaN if any is NaN, and of equal values (0.0 and -0.0) the later. (Python's
+    `min` skips a NaN after the first slot and keeps the first of equal values.)"""
+    smallest = values[b, 0]
+    for k in range(1, values.shape[1]):
+        value = values[b, k]
+        if not (smallest < value or np.isnan(smallest)):  # np.minimum's rule
+            smallest = value
+    return smallest
 
 
 # ---------------------------------------------------------------------------------------------------------------
