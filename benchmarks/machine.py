@@ -11,6 +11,7 @@ import datetime
 import json
 import os
 import platform
+from collections.abc import Callable
 from pathlib import Path
 
 
@@ -63,7 +64,7 @@ def kernel_options(
     description: str, batch: int = 2000, repeats: int = 5, json_output: bool = True
 ) -> argparse.ArgumentParser:
     """The options of the kernel benchmarks: --batch (variants), --steps, --repeats (the best one counts) and, with
-    `json_output`, --json (`print_rows`)."""
+    `json_output`, --json (`run_kernel_benchmark`)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--batch", type=int, default=batch)
     parser.add_argument("--steps", type=int, default=1000)
@@ -73,12 +74,21 @@ def kernel_options(
     return parser
 
 
-def print_rows(args: argparse.Namespace, rows: list[dict], title: str, columns: list[str], table: list) -> None:
-    """The rows as JSON with the machine (`args.json`), else the title, the machine's header and the table."""
+def run_kernel_benchmark(
+    description: str,
+    measure: Callable[[int, int, int], list[dict]],
+    title: str,
+    columns: dict[str, Callable[[dict], str]],
+) -> None:
+    """A kernel benchmark's command: its options (`kernel_options`), `measure(batch, steps, repeats)`'s rows, and
+    either those rows as JSON with the machine (--json) or the title, the machine's header and a table whose
+    `columns` map each heading to the cell of a row."""
+    args = kernel_options(description).parse_args()
+    rows = measure(args.batch, args.steps, args.repeats)
     if args.json:
         print(json.dumps({"machine": machine(), "batch": args.batch, "steps": args.steps, "rows": rows}, indent=2))
         return
     print(f"{title}, B = {args.batch:,}, {args.steps:,} steps, best of {args.repeats}")
     print(header())
     print()
-    print(markdown_table(columns, table))
+    print(markdown_table(list(columns), [[cell(row) for cell in columns.values()] for row in rows]))

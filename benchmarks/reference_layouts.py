@@ -33,7 +33,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import fused_reference
 from bench_engine import speeds
-from machine import kernel_options, print_rows
+from machine import run_kernel_benchmark
 
 SETTINGS = (
     "EGO_HALF_LENGTH_M", "EGO_HALF_WIDTH_M", "REAR_TO_CENTRE_M", "EGO_Y_M", "EGO_START_X_M", "MAX_ACCEL",
@@ -152,17 +152,15 @@ def measure(batch: int, n_steps: int, repeats: int, dt: float = 0.01, parallel: 
     return rows
 
 
-def main() -> None:
-    args = kernel_options(__doc__.splitlines()[0]).parse_args()
-    rows = measure(args.batch, args.steps, args.repeats)
-    table = [
-        (r["layout"], f"{r['seconds']:.3f}", f"{r['ns_per_variant_step']:.1f}", f"{r['time_vs_constants']:.2f}×",
-         "yes" if r["identical"] else "NO")
-        for r in rows
-    ]  # fmt: skip
-    columns = ["layout", "wall s", "ns a variant-step", "time / constants", "identical results"]
-    print_rows(args, rows, "The fused reference in four layouts", columns, table)
+COLUMNS = {
+    "layout": lambda r: r["layout"],
+    "wall s": lambda r: f"{r['seconds']:.3f}",
+    "ns a variant-step": lambda r: f"{r['ns_per_variant_step']:.1f}",
+    "time / constants": lambda r: f"{r['time_vs_constants']:.2f}×",
+    "identical results": lambda r: "yes" if r["identical"] else "NO",
+}
+"""The table's headings and each one's cell of a row of `measure`."""
 
 
 if __name__ == "__main__":
-    main()
+    run_kernel_benchmark(__doc__.splitlines()[0], measure, "The fused reference in four layouts", COLUMNS)

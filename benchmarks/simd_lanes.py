@@ -29,7 +29,7 @@ from numba import njit
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_engine import speeds
-from machine import kernel_options, print_rows
+from machine import run_kernel_benchmark
 from vrusim.geometry.contact import clearance_local, to_local
 from vrusim.geometry.ttc import ttc_local
 
@@ -110,17 +110,16 @@ def measure(batch: int, n_steps: int, repeats: int) -> list[dict]:
     return rows
 
 
-def main() -> None:
-    args = kernel_options(__doc__.splitlines()[0]).parse_args()
-    rows = measure(args.batch, args.steps, args.repeats)
-    table = [
-        (r["order"], f"{r['seconds']:.4f}", f"{r['ns_per_variant_step']:.2f}", f"{r['speed_up']:.2f}×",
-         str(r["packed_instructions"]), "yes" if r["identical"] else "NO")
-        for r in rows
-    ]  # fmt: skip
-    columns = ["loop order", "wall s", "ns a variant-step", "speed-up", "packed instructions", "identical results"]
-    print_rows(args, rows, "Contact geometry in two loop orders", columns, table)
+COLUMNS = {
+    "loop order": lambda r: r["order"],
+    "wall s": lambda r: f"{r['seconds']:.4f}",
+    "ns a variant-step": lambda r: f"{r['ns_per_variant_step']:.2f}",
+    "speed-up": lambda r: f"{r['speed_up']:.2f}×",
+    "packed instructions": lambda r: str(r["packed_instructions"]),
+    "identical results": lambda r: "yes" if r["identical"] else "NO",
+}
+"""The table's headings and each one's cell of a row of `measure`."""
 
 
 if __name__ == "__main__":
-    main()
+    run_kernel_benchmark(__doc__.splitlines()[0], measure, "Contact geometry in two loop orders", COLUMNS)
