@@ -51,7 +51,7 @@ from vrusim.sim.params import BatchParams
 from vrusim.sim.sensing.occlusion import occlude_variant
 from vrusim.sim.sensing.registry import sensor_model_entry
 from vrusim.sim.sensing.sector import perceived_variant
-from vrusim.sim.sensing.sensor_model import observe_variant
+from vrusim.sim.sensing.sensor_model import BUILTIN_SENSOR_MODELS, observe_variant
 from vrusim.sim.state import initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import RealisticChannel, make_channel
 from vrusim.sim.v2x.kernels import channel_variant
@@ -69,8 +69,6 @@ COMPILED_PLANNERS: dict[type, str] = {
 _COMPILED_ACTS = {planner_class: planner_class.act for planner_class in COMPILED_PLANNERS}
 """Each class's own `act`, which its compiled step does: a class whose `act` was replaced since (a mock, a
 wrapper for instrumentation) runs per step."""
-BUILTIN_SENSOR_MODELS = ("ideal", "realistic")
-"""The sensor models the compiled step computes; a registered plug-in sensor model runs per step."""
 TRANSITIONS_PER_VARIANT = 64
 """Mode transitions each variant has room for in a first compiled run; a run in which some variant made more
 (an AEB chattering between warning and cruise makes 57 in the engine benchmark) counts them all and is run again
@@ -96,7 +94,7 @@ def compiled_support(batch: BatchParams, planner: object, channel: object, trace
     if batch.driver.has.any() or batch.door.has.any():
         return "drivers or doors (ego.driver, ego.door)"
     sensor_model = sensor_model_entry(batch).name
-    if sensor_model not in BUILTIN_SENSOR_MODELS:
+    if sensor_model not in BUILTIN_SENSOR_MODELS:  # a registered plug-in: runs per step
         return f"the plug-in sensor model {sensor_model!r}"
     made = make_channel(batch)
     if isinstance(made, RealisticChannel):

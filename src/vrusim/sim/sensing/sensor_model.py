@@ -205,8 +205,10 @@ def all_ideal(params: BatchParams) -> bool:
     return bool(params.sensor.ideal.all())
 
 
-register_sensor_model("ideal", all_ideal, IdealSensor, before=None)
-register_sensor_model("realistic", lambda params: True, RealisticSensor, before=None)
+BUILTIN_SENSOR_MODELS = ("ideal", "realistic")
+"""The registered names of the built-in sensor models (the compiled step computes exactly these)."""
+register_sensor_model(BUILTIN_SENSOR_MODELS[0], all_ideal, IdealSensor, before=None)
+register_sensor_model(BUILTIN_SENSOR_MODELS[1], lambda params: True, RealisticSensor, before=None)
 
 
 def make_sensor_model(params: BatchParams) -> SensorModel:
