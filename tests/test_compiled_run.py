@@ -118,6 +118,31 @@ def test_batch_trace_recorded_compiled_is_the_per_step_trace(paper_batch, planne
 
 
 @pytest.mark.parametrize("planner", PLANNERS)
+def test_a_traced_run_of_no_step_gives_the_same_empty_columns_on_both_paths(paper_batch, planner):
+    """A batch made by hand with no step (`n_steps` = 0; `pack` never makes one): both paths give every trace
+    column without a row (the per-step path gave no column at all)."""
+    batch = dataclasses.replace(_as_planner(paper_batch, planner), n_steps=0)
+    compiled = simulate(batch, trace=True, compiled=True)
+    per_step = simulate(batch, trace=True, compiled=False)
+    assert_same_trace(compiled, per_step)
+    assert_identical(compiled, per_step)
+    assert compiled.steps == 0 and compiled.trace["vru_x_m"].shape == (0, batch.size, batch.vru_slots)
+
+
+def test_empty_trace_columns_are_those_a_run_with_a_driver_and_a_door_records():
+    """`trace_columns` has the recorder's columns, dtypes and shapes, the driver's and the door's included."""
+    tests = select(["CBDA", "CPMFC"], night=False, protocol="2026")
+    batch = pack([build_test(test, "fsm").scenario for test in tests[:1] + tests[-1:]])
+    assert batch.driver.has.any() and batch.door.has.any()
+    recorded = simulate(dataclasses.replace(batch, n_steps=1), trace=True).trace
+    empty = simulate(dataclasses.replace(batch, n_steps=0), trace=True).trace
+    assert list(recorded)[-2:] == ["driver_accel_mps2", "door_angle_rad"]
+    assert list(empty) == list(recorded)
+    for name, column in recorded.items():
+        assert (empty[name].dtype, empty[name].shape) == (column.dtype, (0, *column.shape[1:])), name
+
+
+@pytest.mark.parametrize("planner", PLANNERS)
 def test_trace_with_realistic_sensor_and_channel(paper_pedestrian_dict, planner):
     """Detections from a sensor that misses and lags, and V2X ages from a lossy, jittery channel (NaN: none),
     for one variant and for a batch of six."""

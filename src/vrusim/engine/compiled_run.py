@@ -35,7 +35,7 @@ from vrusim.engine.accumulators import (
 )
 from vrusim.engine.stepper import checked_planner_command
 from vrusim.engine.surrogates import surrogates_variant
-from vrusim.engine.trace_recorder import TRACE_COLUMNS
+from vrusim.engine.trace_recorder import trace_columns
 from vrusim.geometry.contact import clearance_variant
 from vrusim.geometry.ttc import ttc_variant
 from vrusim.kernels import njit
@@ -566,7 +566,7 @@ def run_compiled(
     capacity = TRANSITIONS_PER_VARIANT
     while True:
         metrics = RunMetrics(batch, mode_count)
-        columns = _new_trace(batch) if trace else None
+        columns = trace_columns(batch.n_steps, batch.size, batch.vru_slots) if trace else None
         steps, needed = _run_once(batch, planner, metrics, capacity, columns, until)
         if needed <= capacity:
             recorded = None if columns is None else {name: column[:steps] for name, column in columns.items()}
@@ -579,16 +579,6 @@ def run_compiled(
 
 TRANSITION_BYTES = 10
 """Bytes of one recorded transition: step (int64), old and new mode (int8)."""
-
-
-def _new_trace(batch: BatchParams) -> dict[str, np.ndarray]:
-    """Empty trace columns with a row for every step the batch may take: [steps], [steps, B] or [steps, B, K]."""
-    steps, size, slots = batch.n_steps, batch.size, batch.vru_slots
-    columns = {}
-    for name, dtype in TRACE_COLUMNS.items():
-        shape = (steps,) if name == "t_s" else (steps, size, slots) if name.startswith("vru_") else (steps, size)
-        columns[name] = np.empty(shape, dtype=dtype)
-    return columns
 
 
 def _run_once(

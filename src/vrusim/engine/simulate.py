@@ -17,7 +17,7 @@ import numpy as np
 from vrusim.engine.accumulators import RunMetrics
 from vrusim.engine.compiled_run import compiled_support, run_compiled
 from vrusim.engine.stepper import BatchStepper, checked_planner_command
-from vrusim.engine.trace_recorder import TraceRecorder, check_trace_budget
+from vrusim.engine.trace_recorder import TraceRecorder, check_trace_budget, trace_columns
 from vrusim.errors import UserInputError
 from vrusim.limits import check_limit
 from vrusim.planners.base import (
@@ -130,7 +130,14 @@ def _per_step(
             break
         if can_compact and running < COMPACT_BELOW * active.size:
             planner.compact(stepper.compact())
-    return BatchRun(batch, stepper.finish(), mode_names, recorder.finish() if recorder else None, stepper.step_index)
+    recorded = None
+    if recorder is not None:  # a run of no step: the columns without a row, as the compiled step gives them
+        recorded = (
+            recorder.finish()
+            if recorder.rows
+            else trace_columns(0, batch.size, batch.vru_slots, stepper.has_driver, stepper.has_door)
+        )
+    return BatchRun(batch, stepper.finish(), mode_names, recorded, stepper.step_index)
 
 
 def _split_run(batch: BatchParams, planner: Planner, planner_name: str, mode_names: tuple[str, ...]) -> BatchRun | None:

@@ -38,6 +38,26 @@ the compiled step writes the same (`engine.compiled_run`). Shapes: t_s [rows], v
 [rows, B]."""
 
 
+def trace_columns(
+    rows: int, variants: int, vru_slots: int, driver: bool = False, door: bool = False
+) -> dict[str, np.ndarray]:
+    """Uninitialised trace columns of `rows` rows, as `TraceRecorder.add` records them (order, dtypes, shapes;
+    a driver's and a door's float columns last when asked): the compiled step's arrays to write into, and the
+    trace of a run that took no step (`rows` = 0)."""
+    dtypes = dict(TRACE_COLUMNS)
+    if driver:
+        dtypes["driver_accel_mps2"] = np.float64
+    if door:
+        dtypes["door_angle_rad"] = np.float64
+
+    def shape(name: str) -> tuple[int, ...]:
+        return (
+            (rows,) if name == "t_s" else (rows, variants, vru_slots) if name.startswith("vru_") else (rows, variants)
+        )
+
+    return {name: np.empty(shape(name), dtype=dtype) for name, dtype in dtypes.items()}
+
+
 def trace_bytes(steps: int, variants: int, vru_slots: int) -> int:
     """Upper bound of a trace's memory, bytes: copies x steps x (time + variants x (ego columns + VRUs x VRU
     columns)) x 8 bytes."""
