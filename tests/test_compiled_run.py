@@ -19,6 +19,7 @@ from vrusim.engine import compiled_run
 from vrusim.engine.accumulators import ACCUMULATORS
 from vrusim.engine.simulate import BatchRun, simulate
 from vrusim.engine.trace_recorder import TRACE_COLUMNS
+from vrusim.errors import UserInputError
 from vrusim.ncap.build import build_test
 from vrusim.ncap.grid import select
 from vrusim.paper.cases import paper_scenarios
@@ -26,6 +27,7 @@ from vrusim.planners.base import HoldSpeedPlanner
 from vrusim.planners.fsm import FsmPlanner
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
+from vrusim.sim.compaction import take
 from vrusim.sim.params import BatchParams, pack
 from vrusim.sim.sensing.registry import register_sensor_model, unregister_sensor_model
 
@@ -127,6 +129,35 @@ def test_a_traced_run_of_no_step_gives_the_same_empty_columns_on_both_paths(pape
     assert_same_trace(compiled, per_step)
     assert_identical(compiled, per_step)
     assert compiled.steps == 0 and compiled.trace["vru_x_m"].shape == (0, batch.size, batch.vru_slots)
+
+
+class _WideModes(HoldSpeedPlanner):
+    """A plug-in planner whose mode array is int64 (the built-in planners' is int8)."""
+
+    mode_names = ("holding", "other")
+
+    def reset(self, batch: BatchParams) -> None:
+        super().reset(batch)
+        self.mode = np.zeros(batch.size, dtype=np.int64)
+
+
+def test_a_run_of_no_step_keeps_a_plug_in_planners_mode_dtype(paper_batch):
+    """The zero-step trace's `planner_mode` has the dtype a recorded step gives it: the planner's (was int8)."""
+    batch = _as_planner(paper_batch, "none")
+    recorded = simulate(dataclasses.replace(batch, n_steps=1), planner=_WideModes(), trace=True).trace
+    empty = simulate(dataclasses.replace(batch, n_steps=0), planner=_WideModes(), trace=True).trace
+    assert recorded["planner_mode"].dtype == np.int64
+    assert (empty["planner_mode"].dtype, empty["planner_mode"].shape) == (np.int64, (0, paper_batch.size))
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_an_empty_packed_batch_is_refused_as_pack_refuses_no_scenario(paper_batch, compiled):
+    """A packed batch cut to no variant gets `pack([])`'s message, not an IndexError, on both paths."""
+    empty = take(paper_batch, np.array([], dtype=np.int64))
+    with pytest.raises(UserInputError, match="at least one scenario"):
+        simulate(empty, compiled=compiled)
+    with pytest.raises(UserInputError, match="at least one scenario"):
+        pack([])
 
 
 def test_empty_trace_columns_are_those_a_run_with_a_driver_and_a_door_records():

@@ -74,9 +74,11 @@ def simulate(
     else the per-step path; a batch that only some variants' drivers or doors keep from the compiled step runs
     those variants per step and the others compiled (`_split_run`). False always takes the per-step path
     (Python planners always do); True insists on the compiled step for the whole batch (ValueError saying why
-    it cannot). All give identical results.
+    it cannot). All give identical results. An empty batch raises UserInputError.
     """
     batch = scenarios if isinstance(scenarios, BatchParams) else pack(list(scenarios))
+    if batch.size == 0:  # a packed batch cut to nothing (`take` with no index): as `pack([])` says
+        raise UserInputError("a batch needs at least one scenario")
     check_budgets(batch, trace)
     planner_name = batch.planner_names[0] if planner is None else type(planner).__name__
     planner = planner if planner is not None else _planner_for(batch.planner_names)
@@ -132,10 +134,18 @@ def _per_step(
             planner.compact(stepper.compact())
     recorded = None
     if recorder is not None:  # a run of no step: the columns without a row, as the compiled step gives them
+        mode = planner_mode(planner)
         recorded = (
             recorder.finish()
             if recorder.rows
-            else trace_columns(0, batch.size, batch.vru_slots, stepper.has_driver, stepper.has_door)
+            else trace_columns(
+                0,
+                batch.size,
+                batch.vru_slots,
+                stepper.has_driver,
+                stepper.has_door,
+                np.int8 if mode is None else np.asarray(mode).dtype,
+            )
         )
     return BatchRun(batch, stepper.finish(), mode_names, recorded, stepper.step_index)
 

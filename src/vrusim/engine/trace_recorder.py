@@ -39,12 +39,18 @@ the compiled step writes the same (`engine.compiled_run`). Shapes: t_s [rows], v
 
 
 def trace_columns(
-    rows: int, variants: int, vru_slots: int, driver: bool = False, door: bool = False
+    rows: int,
+    variants: int,
+    vru_slots: int,
+    driver: bool = False,
+    door: bool = False,
+    mode_dtype: np.dtype | type = np.int8,
 ) -> dict[str, np.ndarray]:
     """Uninitialised trace columns of `rows` rows, as `TraceRecorder.add` records them (order, dtypes, shapes;
-    a driver's and a door's float columns last when asked): the compiled step's arrays to write into, and the
-    trace of a run that took no step (`rows` = 0)."""
-    dtypes = dict(TRACE_COLUMNS)
+    a driver's and a door's float columns last when asked; `planner_mode` in the planner's mode dtype, int8 for
+    the built-in planners and a planner without modes): the compiled step's arrays to write into, and the trace
+    of a run that took no step (`rows` = 0)."""
+    dtypes = dict(TRACE_COLUMNS, planner_mode=mode_dtype)
     if driver:
         dtypes["driver_accel_mps2"] = np.float64
     if door:
