@@ -3,8 +3,8 @@
     python docs/make_layout.py          # rewrite the block between the layout markers in README.md
     python docs/make_layout.py --check  # exit 1 if README.md differs from what the code says (tests run this)
 
-Packages are listed in the order of the layers contract in pyproject.toml, lowest first, each with the first line
-of its `__init__` docstring and its modules (a sub-package as `name/`); the base modules come first.
+Packages are listed in the order of the layers contract in pyproject.toml, lowest first, each with the first
+paragraph of its `__init__` docstring and its modules (a sub-package as `name/`); the base modules come first.
 """
 
 from __future__ import annotations
@@ -24,9 +24,9 @@ INDENT = 14
 
 
 def _summary(path: Path) -> str:
-    """The first line of a module's or package's docstring, without its closing period."""
-    doc = ast.get_docstring(ast.parse(path.read_text())) or ""
-    return doc.strip().splitlines()[0].rstrip(".") if doc.strip() else ""
+    """The first paragraph of a module's or package's docstring on one line, without its closing period."""
+    doc = (ast.get_docstring(ast.parse(path.read_text())) or "").strip()
+    return " ".join(doc.split("\n\n")[0].split()).rstrip(".")
 
 
 def _layer_names() -> list[str]:
