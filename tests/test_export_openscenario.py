@@ -296,6 +296,7 @@ def test_cli_exports_a_yaml_file(tmp_path):
     assert result.exit_code == 0, result.output
     stem = file_stem(load_scenario(YAML_FILES[0]).name)
     assert sorted(p.name for p in out.iterdir()) == [f"{stem}.xodr", f"{stem}.xosc"]
+    assert "Exported 1 scenario as openscenario: 2 files in" in " ".join(result.output.split())
 
 
 def test_cli_exports_a_catalogue_id_and_a_prefix(tmp_path):
@@ -316,6 +317,8 @@ def test_cli_commonroad_exports_simulated_runs_that_load(tmp_path):
     expected = select(protocol="2023", codes=["CPNA-25"])
     files = sorted(tmp_path.glob("*.xml"))
     assert len(files) == len(expected) > 1
+    said = " ".join(result.output.split())
+    assert f"Exported {len(expected)} scenarios as commonroad: {len(expected)} files in" in said
     scenario, _ = CommonRoadFileReader(str(files[0])).open()
     assert len(scenario.dynamic_obstacles) == 2  # the ego and the pedestrian
 

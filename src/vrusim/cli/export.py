@@ -85,4 +85,6 @@ def export_command(
     if len(written) <= LISTED_FILES:
         for path in written:
             screen.print(escape(str(path)))
-    screen.print(f"Exported {len(scenarios)} scenario(s) as {fmt.value}: {len(written)} files in {escape(str(out))}.")
+    scenarios_text = f"{len(scenarios)} scenario" + ("" if len(scenarios) == 1 else "s")
+    files_text = f"{len(written)} file" + ("" if len(written) == 1 else "s")
+    screen.print(f"Exported {scenarios_text} as {fmt.value}: {files_text} in {escape(str(out))}.")
