@@ -25,7 +25,7 @@ from vrusim.sim.observation import SOURCE_SENSOR
 from vrusim.sim.params import pack
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normals, uniforms
 from vrusim.sim.sensing.sensor_model import IdealSensor, RealisticSensor, make_sensor_model
-from vrusim.sim.sensing.sensor_params import whole_steps
+from vrusim.sim.sensing.sensor_params import MAX_WHOLE_STEPS, whole_steps
 
 DT = 0.01
 SCRATCH_FIELDS = {"prev_actuator", "prev_clearance", "prev_speed"}
@@ -474,3 +474,48 @@ def test_fused_sensor_estimates_carry_their_age(make_scenario):
     ages = np.array([sensor.age_s(step, 0.01)[0] for step in range(10, 60)])
     assert ages.min() == pytest.approx(0.1) and ages.max() == pytest.approx(0.14)
     assert np.all(np.diff(ages)[np.diff(ages) < 0] == pytest.approx(-0.04))  # a new frame every 5 steps
+
+
+# --- delays longer than the run --------------------------------------------------------------------------------
+
+
+def test_whole_steps_saturates_instead_of_wrapping_around():
+    with np.errstate(all="raise"):
+        assert whole_steps(10.0, 1e-200) == MAX_WHOLE_STEPS  # 1e201 steps
+        assert whole_steps(1.0 / 1e-17, DT) == MAX_WHOLE_STEPS  # a frame every 1e19 steps: beyond int64
+        assert whole_steps(np.array([1e300, 0.15]), 1e-10).tolist() == [MAX_WHOLE_STEPS, 1_500_000_000]
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_a_latency_beyond_the_run_keeps_a_buffer_of_the_run_and_reports_nothing(crossing, compiled):
+    """A 10 s latency in a 0.5 s run (50 steps) reports nothing, exactly as a latency of the whole run does, and
+    the ring buffer holds the run's steps + 1 (a 1,001-step buffer before; at dt = 1e-8 s it asked 44 GiB)."""
+    crossing["sim"]["duration_s"] = 0.5
+    runs = {
+        latency: simulate([scenario_from_mapping(with_sensor(crossing, latency_s=latency))], compiled=compiled)
+        for latency in (10.0, 0.5)
+    }
+    assert np.array_equal(runs[10.0].metrics.values, runs[0.5].metrics.values, equal_nan=True)
+    assert np.isnan(runs[10.0].metrics.first_sensor_s[0])
+    sensor = RealisticSensor()
+    sensor.reset(pack([scenario_from_mapping(with_sensor(crossing, latency_s=10.0))]))
+    assert sensor.history.shape[0] == sensor.seen.shape[0] == 51
+
+
+def test_a_frame_rate_too_low_to_give_a_second_frame_is_never_an_every_step_sensor(crossing):
+    """1e-17 Hz at dt = 0.01 s is a frame every 1e19 steps, beyond int64: it wrapped to an every-step sensor."""
+    slow, slower = (run_recorded(with_sensor(crossing, frame_rate_hz=rate))[0] for rate in (1e-6, 1e-17))
+    ideal = run_recorded(crossing)[0]
+    assert ideal.any() and not slow.any()  # the only frame, at step 0, sees nothing yet
+    assert np.array_equal(slow, slower)
+
+
+def test_sensor_and_v2x_buffers_beyond_their_budget_are_refused(crossing, monkeypatch):
+    """The budget reads the buffers as allocated: 10 s of latency at dt = 1e-4 s is 100,000 rows x 49 bytes."""
+    crossing["sim"].update(dt_s=1e-4, duration_s=20.0)
+    scenario = scenario_from_mapping(with_sensor(crossing, latency_s=10.0))
+    monkeypatch.setenv("VRUSIM_LIMIT_DELAY_BUFFER_BYTES", "4000000")
+    with pytest.raises(UserInputError, match=r"sensor\.latency_s .* over sim\.dt_s: 1 variants x 1 VRUs .*limit"):
+        simulate([scenario])
+    crossing["sim"]["duration_s"] = 0.5  # the run is what bounds the buffer: 5,001 rows
+    simulate([scenario_from_mapping(with_sensor(crossing, latency_s=10.0))])

@@ -636,3 +636,27 @@ def test_a_track_age_shorter_than_the_delay_is_rejected():
     with pytest.raises(ValidationError, match="track_max_age_s"):
         ChannelSpec(latency_s=0.8, jitter_s=0.3)  # default track age 1.0 s < 1.1 s
     assert ChannelSpec(latency_s=0.8, jitter_s=0.3, track_max_age_s=1.1).track_max_age_s == 1.1
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_delays_beyond_the_run_keep_a_queue_of_the_run_and_deliver_nothing(paper_pedestrian, compiled):
+    """10 s of latency and 10 s of jitter in a 0.5 s run (50 steps): nothing is delivered, exactly as with the
+    latency of the whole run, and the queue holds the run's steps + 2 (2,002 before; 89 GiB at dt = 1e-8 s)."""
+    paper_pedestrian["v2x"]["enabled"] = True
+    paper_pedestrian["sim"]["duration_s"] = 0.5
+    runs = {}
+    for delay in (10.0, 0.5):
+        jitter = 10.0 if delay == 10.0 else 0.0
+        paper_pedestrian["v2x"]["channel"] = {
+            "generation": {"mode": "every_step"},
+            "latency_s": delay,
+            "jitter_s": jitter,
+            "track_max_age_s": 30.0,
+        }
+        scenario = scenario_from_mapping(paper_pedestrian)
+        runs[delay] = simulate([scenario], compiled=compiled)
+        channel = RealisticChannel()
+        channel.reset(pack([scenario]))
+        assert channel.buf_kin.shape[2] == 52
+    assert np.array_equal(runs[10.0].metrics.values, runs[0.5].metrics.values, equal_nan=True)
+    assert np.isnan(runs[10.0].metrics.first_v2x_s[0])

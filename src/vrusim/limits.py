@@ -41,6 +41,9 @@ LIMITS: dict[str, Limit] = {
     "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
     "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
     "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),
+    "delay_buffer_bytes": Limit(
+        2_000_000_000, "bytes", "memory of one batch's sensor latency buffer and V2X message queues"
+    ),
     "road_points": Limit(50_000, "points", "points of a scenario's drawn road (road.lines and road.surfaces)"),
 }
 """Every limit by name (the environment variable is VRUSIM_LIMIT_ + the name in capitals)."""

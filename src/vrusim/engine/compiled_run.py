@@ -52,6 +52,7 @@ from vrusim.sim.sensing.occlusion import occlude_variant
 from vrusim.sim.sensing.registry import sensor_model_entry
 from vrusim.sim.sensing.sector import perceived_variant
 from vrusim.sim.sensing.sensor_model import BUILTIN_SENSOR_MODELS, observe_variant
+from vrusim.sim.sensing.sensor_params import history_depth
 from vrusim.sim.state import initial_ego, initial_vrus
 from vrusim.sim.v2x.channel import RealisticChannel, make_channel
 from vrusim.sim.v2x.kernels import channel_variant
@@ -515,7 +516,7 @@ def _sensor_tuple(batch: BatchParams) -> tuple:
     sensor = batch.sensor
     realistic = not bool(sensor.ideal.all())
     shape = batch.vru_valid.shape
-    depth = int(sensor.latency_steps.max()) + 1 if realistic else 1
+    depth = history_depth(sensor, batch.n_steps) if realistic else 1
     return (
         _c(batch.sensor_enabled), _c(batch.sensor_range_m), _c(batch.sensor_cos_half), _c(batch.sensor_sin_half),
         bool(obstacles.x_m.shape[1]), *(_c(a) for a in obstacles), realistic, _c(batch.seed),

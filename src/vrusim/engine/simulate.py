@@ -32,6 +32,8 @@ from vrusim.planners.registry import make_planner
 from vrusim.scenario.schema import Scenario
 from vrusim.sim.compaction import compactable, take
 from vrusim.sim.params import BatchParams, pack
+from vrusim.sim.sensing.sensor_params import history_depth
+from vrusim.sim.v2x.channel_params import queue_slots
 from vrusim.sim.v2x.messages import Channel
 
 
@@ -179,9 +181,28 @@ def _split_run(batch: BatchParams, planner: Planner, planner_name: str, mode_nam
     return BatchRun(batch, metrics, mode_names, None, max(done[1], slow.steps))
 
 
+SENSOR_BYTES_PER_ROW = 1 + 6 * 8
+"""A sensor ring-buffer row of one VRU: its visibility flag and its true kinematics (6 doubles)."""
+QUEUE_BYTES_PER_SLOT = 8 + 8 + 6 * 8
+"""A V2X queue slot of one VRU: generation and due steps, and the message's kinematics (6 doubles)."""
+
+
+def delay_buffer_bytes(batch: BatchParams) -> int:
+    """Memory of the batch's sensor latency ring buffer and V2X message queues, bytes (as the models allocate)."""
+    rows = history_depth(batch.sensor, batch.n_steps)
+    slots = queue_slots(batch.channel.queue_capacity, batch.n_steps)
+    return batch.size * batch.vru_slots * (rows * SENSOR_BYTES_PER_ROW + slots * QUEUE_BYTES_PER_SLOT)
+
+
 def check_budgets(batch: BatchParams, trace: bool) -> None:
-    """Refuse a batch beyond the work budgets before it runs: its variant-steps, and its trace's memory."""
+    """Refuse a batch beyond the work budgets before it runs: its variant-steps, its sensor latency and V2X queue
+    memory, and its trace's memory."""
     what = f"{batch.size:,} variants x {batch.n_steps:,} steps of one batch run"
     check_limit("batch_variant_steps", batch.size * batch.n_steps, what)
+    delays = (
+        f"sensor.latency_s and v2x.channel latency_s + jitter_s over sim.dt_s: {batch.size:,} variants x "
+        f"{batch.vru_slots} VRUs x up to {batch.n_steps:,} steps held"
+    )
+    check_limit("delay_buffer_bytes", delay_buffer_bytes(batch), delays)
     if trace:
         check_trace_budget(batch.n_steps, batch.size, batch.vru_slots)

@@ -31,7 +31,7 @@ from vrusim.scenario.field_paths import Step
 from vrusim.scenario.schema import MAX_STEPS, Scenario
 from vrusim.scenario.v2x import BernoulliLoss, resolve_channel
 from vrusim.sim.params import BatchParams
-from vrusim.sim.sensing.sensor_params import whole_steps
+from vrusim.sim.sensing.sensor_params import MAX_WHOLE_STEPS, whole_steps
 from vrusim.sim.v2x import kernels as kern
 from vrusim.sim.v2x.channel_params import _MODES
 from vrusim.sim.v2x.loss.registry import loss_entries as _loss_entries
@@ -91,7 +91,9 @@ def _refresh_channel(params: BatchParams) -> None:
     """Queue capacity and the `ideal` flag from the packed channel arrays (as `pack_channel` derives them)."""
     channel, dt = params.channel, params.dt_s
     cfg = channel.cfg
-    max_delay = np.ceil((cfg[:, kern.CFG_LATENCY_S] + cfg[:, kern.CFG_JITTER_S]) / dt - 1e-9).astype(np.int64)
+    with np.errstate(over="ignore"):
+        delay_steps = (cfg[:, kern.CFG_LATENCY_S] + cfg[:, kern.CFG_JITTER_S]) / dt - 1e-9
+    max_delay = np.ceil(np.minimum(delay_steps, float(MAX_WHOLE_STEPS))).astype(np.int64)
     interval = np.where(
         channel.mode == _MODES["every_step"],
         1.0,

@@ -27,6 +27,7 @@ from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.rng import STREAM_SENSOR_DETECT, STREAM_SENSOR_NOISE, normal, uniform
 from vrusim.sim.sensing.registry import SensorModel, register_sensor_model, sensor_model_entry
+from vrusim.sim.sensing.sensor_params import history_depth
 
 NOISY_ROWS = 4
 """Kinematics rows with measurement noise: x, y (position sigma) and vx, vy (velocity sigma)."""
@@ -53,8 +54,8 @@ class IdealSensor:
 class RealisticSensor:
     """Latency, frame rate, missed detections and noise, per variant; keyed random draws (`sim/rng.py`).
 
-    State: a ring buffer of the last D = max L + 1 steps' visibility [D, B, K] and true kinematics
-    [D, 6, B, K], and the report held since the last frame (detected [B, K], estimate [6, B, K]).
+    State: a ring buffer of the last D = min(max L, steps of the run) + 1 steps' visibility [D, B, K] and true
+    kinematics [D, 6, B, K], and the report held since the last frame (detected [B, K], estimate [6, B, K]).
     """
 
     variant_axes: ClassVar[dict[str, int]] = {"seen": 1, "history": 2, "held_estimate": 1}
@@ -69,7 +70,7 @@ class RealisticSensor:
         self.position_sigma_m = sensor.position_sigma_m.copy()
         self.velocity_sigma_mps = sensor.velocity_sigma_mps.copy()
         shape = params.vru_valid.shape
-        depth = int(self.latency.max()) + 1
+        depth = history_depth(sensor, params.n_steps)
         self.seen = np.zeros((depth, *shape), dtype=bool)
         self.history = np.zeros((depth, 6, *shape))
         self.held = np.zeros(shape, dtype=bool)

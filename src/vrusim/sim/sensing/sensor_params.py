@@ -13,11 +13,26 @@ import numpy as np
 
 from vrusim.scenario.schema import Scenario
 
+MAX_WHOLE_STEPS = 2**62
+"""The most steps `whole_steps` gives (int64 with room to add): any count beyond a run's steps (at most
+`schema.MAX_STEPS`) acts as never, so a longer duration (a latency of 10 s at dt = 1e-15 s) means the same."""
+
 
 def whole_steps(duration_s: float | np.ndarray, dt_s: float) -> np.ndarray:
-    """Durations in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt); floats
-    or arrays (int64)."""
-    return np.floor(np.asarray(duration_s, dtype=float) / dt_s + 0.5 + 1e-9).astype(np.int64)
+    """Durations in whole steps, rounded to the nearest (halves up, robust to round-off in duration / dt), at most
+    `MAX_WHOLE_STEPS`; floats or arrays (int64)."""
+    with np.errstate(over="ignore"):
+        steps = np.floor(np.asarray(duration_s, dtype=float) / dt_s + 0.5 + 1e-9)
+    return np.minimum(steps, float(MAX_WHOLE_STEPS)).astype(np.int64)
+
+
+def history_depth(sensor: SensorParams, n_steps: int) -> int:
+    """Steps the realistic sensor's ring buffer keeps: the largest latency L + 1, but at most the run's steps + 1.
+
+    A latency of n_steps or more reports nothing during the run, exactly as one of n_steps does (the frame it
+    would report lies before step 0 at every step), so the buffer never needs more rows than the run has steps.
+    """
+    return int(min(int(sensor.latency_steps.max()), max(n_steps, 1))) + 1
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ import numpy as np
 from vrusim.sim.compaction import take_members
 from vrusim.sim.params import BatchParams
 from vrusim.sim.v2x import kernels as kern
+from vrusim.sim.v2x.channel_params import queue_slots
 from vrusim.sim.v2x.loss.registry import LossContext, LossModelEntry, loss_entries
 from vrusim.sim.v2x.messages import Channel, IdealChannel, V2xMessages
 
@@ -48,7 +49,7 @@ class RealisticChannel:
         )
         self.outage_start, self.outage_end = packed.outage_start_s.copy(), packed.outage_end_s.copy()
         self.outage_count = packed.outage_count.copy()
-        capacity = int(packed.queue_capacity.max())
+        capacity = queue_slots(packed.queue_capacity, params.n_steps)
         self.last_gen = np.full((B, K), -1, dtype=np.int64)
         self.due = np.full((B, K), -np.inf)
         self.force = np.zeros((B, K), dtype=bool)

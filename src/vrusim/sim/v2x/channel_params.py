@@ -13,6 +13,7 @@ import numpy as np
 
 from vrusim.scenario.schema import Scenario
 from vrusim.scenario.v2x import ChannelSpec
+from vrusim.sim.sensing.sensor_params import MAX_WHOLE_STEPS
 from vrusim.sim.v2x import kernels as kern
 from vrusim.sim.v2x.loss.registry import loss_entry
 
@@ -39,12 +40,19 @@ def channel_config(spec: ChannelSpec, dt_s: float) -> tuple[int, int, np.ndarray
 
 
 def queue_capacity(spec: ChannelSpec, dt_s: float) -> int:
-    """Most messages of one VRU in flight at once, plus one: floor(max delay / min interval) + 2 (in steps)."""
+    """Most messages of one VRU in flight at once, plus one: floor(max delay / min interval) + 2 (in steps); the
+    channel allocates at most the run's steps + 2 of them."""
     gen = spec.generation
-    max_delay = math.ceil((spec.latency_s + spec.jitter_s) / dt_s - 1e-9)
+    max_delay = math.ceil(min((spec.latency_s + spec.jitter_s) / dt_s - 1e-9, MAX_WHOLE_STEPS))
     interval = {"every_step": 1.0, "periodic": 1.0 / (gen.rate_hz * dt_s), "etsi_vam": gen.vam_min_interval_s / dt_s}
     min_interval = max(1, math.floor(interval[gen.mode] - 1e-6))
     return max_delay // min_interval + 2
+
+
+def queue_slots(capacity: np.ndarray, n_steps: int) -> int:
+    """Slots of the channel's message queue for a run of `n_steps`: the largest `queue_capacity`, but at most the
+    run's steps + 2, since a VRU sends at most one message a step (so the queue never fills either way)."""
+    return int(min(int(capacity.max()), max(n_steps, 1) + 2))
 
 
 @dataclass(frozen=True)
