@@ -142,6 +142,24 @@ def test_variant_steps_of_one_batch_are_budgeted(monkeypatch):
     assert simulate([scenario]).steps == 500
 
 
+def test_the_path_tables_are_budgeted_before_sampling(tmp_path, monkeypatch):
+    """64 VRU paths of 99,980 m each (a 6.7 kB file) asked 32 million samples and more than 5 GB: the table of
+    distinct paths x the longest path's samples is counted before anything is sampled."""
+    crossing = {**minimal_scenario_dict()["vrus"][0], "heading_deg": None}
+    vrus = [
+        {**crossing, "start": [float(i), -10.0], "path": [[float(i), 49_980.0], [float(i), -10.0]]} for i in range(64)
+    ]
+    path = _write(tmp_path, _scenario({"vrus": vrus, "sim": {"duration_s": 0.1}}))
+    expected = "vrus[].path: 64 distinct paths x the longest, 99,980 m, sampled every 0.2 m: 31,993,664 samples"
+    assert_user_error(invoke("run", path), expected, "exceeds the limit of 10,000,000", "PATH_SAMPLES raises it")
+    monkeypatch.setenv(env_name("path_samples"), "2000")  # the minimal scenario: a 200 m route, 1,001 samples
+    with pytest.raises(
+        UserInputError, match=r"ego\.route: 1 distinct paths x the longest, 400 m, sampled every 0.2 m: 2,001 samples"
+    ):
+        simulate([scenario_from_mapping(_scenario({"ego": {"route": {"length_m": 400.0}}}))])
+    simulate([scenario_from_mapping(_scenario({}))])
+
+
 # --- sweeps --------------------------------------------------------------------------------------------------
 
 

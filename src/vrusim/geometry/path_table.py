@@ -6,16 +6,35 @@ beyond either end it continues along its first / last segment.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from vrusim.geometry.paths import SAMPLE_SPACING_M, PathSpec, PolylineSpec, sample_path, sample_polyline
 from vrusim.kernels import njit
+from vrusim.limits import check_limit
+
+
+def table_samples(specs: list[PathSpec | PolylineSpec], spacing_m: float) -> tuple[int, float]:
+    """(samples of a table of `specs`, the longest path's length in m): rows x the longest row, as sampled."""
+    longest_m = max(spec.length_m for spec in specs)
+    return len(specs) * max(2, math.ceil(longest_m / spacing_m - 1e-9) + 1), longest_m
+
+
+def check_table_budget(specs: list[PathSpec | PolylineSpec], spacing_m: float, what: str) -> None:
+    """Refuse a table beyond limit `path_samples` before sampling anything."""
+    samples, longest_m = table_samples(specs, spacing_m)
+    about = f"{len(specs):,} distinct paths x the longest, {longest_m:,.0f} m, sampled every {spacing_m:g} m"
+    check_limit("path_samples", samples, f"{what}: {about}")
 
 
 class PathTable:
     """Sampled paths stacked into arrays [rows, N]; evaluate and project for a batch of (row, station) pairs."""
 
-    def __init__(self, specs: list[PathSpec | PolylineSpec], spacing_m: float = SAMPLE_SPACING_M):
+    def __init__(self, specs: list[PathSpec | PolylineSpec], spacing_m: float = SAMPLE_SPACING_M, what: str = "paths"):
+        """Sample `specs` every `spacing_m` (m) into one table; refused (limit `path_samples`, naming `what`) when
+        the table, one row of the longest path's samples for each spec, would be too large."""
+        check_table_budget(specs, spacing_m, what)
         self.spacing_m = spacing_m
         samples = [
             sample_path(s, spacing_m) if isinstance(s, PathSpec) else sample_polyline(s, spacing_m) for s in specs

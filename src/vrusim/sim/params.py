@@ -253,7 +253,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
     scalars = _scalar_columns(scenarios)
 
     route_specs, route_rows = _unique_rows([ego_route_spec(s.ego) for s in scenarios])
-    routes = PathTable(route_specs)
+    routes = PathTable(route_specs, what="ego.route")
     half_fov = np.radians(scalars["fov_deg"]) / 2
 
     vru_valid = np.zeros((B, K), dtype=bool)
@@ -304,7 +304,7 @@ def pack(scenarios: list[Scenario]) -> BatchParams:
             path_index[b, k] = len(path_specs) - 1
             trigger_kind[b, k], numeric["tval"][b, k] = TRIGGER_TIME, math.inf
     unique_paths, unique_index = _unique_rows(path_specs)
-    vru_paths = PathTable(unique_paths)
+    vru_paths = PathTable(unique_paths, what="vrus[].path")
     vru_rows = unique_index[path_index]
 
     max_steer = np.radians(scalars["max_steer_deg"])
