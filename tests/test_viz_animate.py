@@ -8,7 +8,7 @@ import imageio.v3 as iio
 import numpy as np
 import pytest
 
-from cli_helpers import invoke
+from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR
 from vrusim.errors import UserInputError
 from vrusim.paper.cases import paper_scenarios
@@ -103,3 +103,22 @@ def test_run_animate_end_to_end(tmp_path):
     row = [line for line in result.output.splitlines() if "Contact time" in line]
     assert row, result.output
     assert frames.shape[0] >= 100  # 25 fps over the ~5 s run
+
+
+def test_frames_beyond_the_budget_are_refused_before_drawing(tmp_path, monkeypatch):
+    """A 3,600 s run asked `--animate` for 90,000 frames, which a GIF holds in memory (about 0.8 MB each): the
+    frame count is checked against `animation_frames` first, and nothing is written."""
+    long = tmp_path / "long.yaml"
+    long.write_text(
+        "name: long\nego: {start: {x_m: -50.0, y_m: -1.75}, cruise_speed_mps: 0.0}\n"
+        "vrus: [{type: pedestrian, start: [18.0, -10.0], heading_deg: 90, top_speed_mps: 0}]\n"
+        "sim: {dt_s: 0.1, duration_s: 3600}\n"
+    )
+    result = invoke("run", long, "--animate", tmp_path / "long.gif")
+    assert_user_error(result, "--animate: an animation of 3,600.0 s at 25 frames/s", "90,000 frames exceeds the limit")
+    assert not list(tmp_path.glob("*.gif")) and not list(tmp_path.glob(".*"))
+    monkeypatch.setenv("VRUSIM_LIMIT_ANIMATION_FRAMES", "30")  # the 5 s run at 8 frames/s: 40
+    rec = record([next(s for case, v2x, s in paper_scenarios() if case.key == "pedestrian" and not v2x)])[0]
+    with pytest.raises(UserInputError, match="40 frames exceeds the limit of 30"):
+        write_animation(rec, tmp_path / "run.gif", fps=FPS)
+    assert write_animation(rec, tmp_path / "run.gif", fps=FPS, speed=4.0).exists()  # 10 frames of a 5 s run

@@ -41,6 +41,7 @@ LIMITS: dict[str, Limit] = {
     "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
     "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
     "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),
+    "animation_frames": Limit(1_500, "frames", "frames of one animation (--animate): 60 s of a run at 25 frames/s"),
     "path_samples": Limit(10_000_000, "samples", "samples of one batch's table of VRU paths or of ego routes"),
     "delay_buffer_bytes": Limit(
         2_000_000_000, "bytes", "memory of one batch's sensor latency buffer and V2X message queues"

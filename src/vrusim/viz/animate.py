@@ -21,6 +21,7 @@ from PIL import Image
 
 from vrusim.extras import extra
 from vrusim.io.atomic import write_atomically
+from vrusim.limits import check_limit
 from vrusim.viz import style
 from vrusim.viz.figure_io import check_output_path
 from vrusim.viz.recording import Recording
@@ -40,14 +41,25 @@ def check_animation_path(path: str | Path) -> Path:
     return path
 
 
-def frame_times(recording: Recording, fps: float = 25.0, speed: float = 1.0) -> np.ndarray:
-    """Times (s) of the frames: round(duration × fps / speed) frames (at least 2) evenly from t = 0 to the end,
-    so the last frame shows the final state (impact or route end). `speed` > 1 plays faster than real time."""
+def frame_count(duration_s: float, fps: float = 25.0, speed: float = 1.0) -> int:
+    """Frames of an animation of `duration_s` (s) of simulated time: round(duration × fps / speed), at least 2."""
     if fps <= 0 or speed <= 0:
         raise ValueError("fps and speed must be positive")
+    return max(2, round(duration_s * fps / speed))
+
+
+def check_frame_budget(duration_s: float, fps: float = 25.0, speed: float = 1.0) -> None:
+    """Refuse an animation beyond limit `animation_frames` (a GIF holds every frame in memory until it is
+    written, about 0.8 MB a frame): cheap, so call it before simulating."""
+    what = f"an animation of {duration_s:,.1f} s at {fps:g} frames/s (speed {speed:g})"
+    check_limit("animation_frames", frame_count(duration_s, fps, speed), what)
+
+
+def frame_times(recording: Recording, fps: float = 25.0, speed: float = 1.0) -> np.ndarray:
+    """Times (s) of the frames: `frame_count` frames evenly from t = 0 to the end, so the last frame shows the
+    final state (impact or route end). `speed` > 1 plays faster than real time."""
     duration = float(recording.t_s[-1])
-    n = max(2, round(duration * fps / speed))
-    return np.linspace(0.0, duration, n)
+    return np.linspace(0.0, duration, frame_count(duration, fps, speed))
 
 
 def animation_figure(recording: Recording, width_in: float = 8.0, dpi: float = 100.0) -> tuple[Figure, SceneArtists]:
@@ -136,9 +148,11 @@ def write_animation(
 ) -> Path:
     """Write `recording` as an animated GIF or an H.264 MP4 (by the suffix of `path`), atomically; return it.
 
-    round(duration × fps / speed) frames, `width_in` × `dpi` pixels wide. Bad suffix or folder: UserInputError.
+    round(duration × fps / speed) frames, `width_in` × `dpi` pixels wide. Bad suffix or folder, or more frames than
+    limit `animation_frames`: UserInputError.
     """
     path = check_animation_path(path)
+    check_frame_budget(float(recording.t_s[-1]), fps, speed)
     frames = iter_frames(recording, fps, width_in, dpi, speed)
     if path.suffix.lower() == ".gif":
         return write_atomically(path, lambda temp: _write_gif(frames, temp, fps), "animation")
