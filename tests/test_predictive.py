@@ -163,6 +163,8 @@ def test_paper_cases_without_v2x_match_the_fsm_outcomes(paper_rows):
         ({"horizon_s": True}, "horizon_s", "valid number, got true"),
         ({"gentle": True}, "gentle", "unknown field"),
         ({"comfort_decel_mps2": 9.0}, "emergency_decel_mps2", "at least comfort_decel_mps2"),
+        ({"step_s": 1e-7}, "step_s", "greater than or equal to 0.001"),  # 5e7 points a step: the run hung
+        ({"step_s": 1e-20}, "step_s", "greater than or equal to 0.001"),  # the count overflowed: no prediction
     ],
 )
 def test_bad_parameters_name_the_field(make_scenario, params, field, message):

@@ -56,7 +56,9 @@ class PredictiveParams(StrictModel):
     prediction: Literal["constant_velocity", "path"] = "constant_velocity"
     speed_envelope: bool = Field(True, description="also predict at the VRU's current along-track acceleration")
     horizon_s: float = Field(5.0, gt=0, le=30)
-    step_s: float = Field(0.1, gt=0, le=1)
+    step_s: float = Field(
+        0.1, ge=0.001, le=1, description="prediction sampling step, s: horizon_s / step_s + 1 samples per VRU a step"
+    )
     time_margin_s: float = Field(0.5, ge=0, description="ego reaches a zone this long after the VRU left it, s")
     follow_time_gap_s: float = Field(1.0, ge=0, description="time gap behind a VRU riding ahead, s")
     stop_gap_m: float = Field(2.0, ge=0, description="distance kept to a VRU's near edge, m")
