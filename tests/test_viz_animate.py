@@ -3,6 +3,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+import warnings
+
 import imageio.v2 as imageio_v2
 import imageio.v3 as iio
 import numpy as np
@@ -103,3 +106,11 @@ def test_run_animate_end_to_end(tmp_path):
     row = [line for line in result.output.splitlines() if "Contact time" in line]
     assert row, result.output
     assert frames.shape[0] >= 100  # 25 fps over the ~5 s run
+
+
+def test_a_dollar_or_a_missing_glyph_in_the_name_is_drawn_literally_and_quietly(pedestrian, tmp_path):
+    rec = dataclasses.replace(pedestrian, scenario=pedestrian.scenario.replace(name="A$$B 🚗"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        path = write_animation(rec, tmp_path / "a.gif", fps=2.0, width_in=WIDTH_IN, dpi=DPI)
+    assert path.stat().st_size > 0
