@@ -151,3 +151,11 @@ def test_limits_are_documented_and_changed_by_their_environment_variable(monkeyp
 def test_valid_files_still_load():
     for path in sorted((Path(__file__).resolve().parents[1] / "scenarios").rglob("*.yaml")):
         load_scenario(path)
+
+
+@pytest.mark.parametrize("field", ["name", "description"])
+def test_a_control_character_in_free_text_is_refused_before_export(tmp_path, field):
+    path = _write(tmp_path, _scenario_text(**{field: "a\x01b"}))
+    result = invoke("export", path, "--format", "openscenario", "--out", tmp_path / "out")
+    assert_user_error(result, f"{field}: contains the control character U+0001")
+    assert not (tmp_path / "out").exists()

@@ -25,6 +25,7 @@ from vrusim.scenario.field_paths import replaced
 from vrusim.scenario.road_lines import RoadLine, RoadSurface, points_excess
 from vrusim.scenario.score_profiles import MAX_CLEARANCE_THRESHOLD_M
 from vrusim.scenario.strict import StrictModel, the_one_given
+from vrusim.scenario.text import OneLineText, Text
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_masses import EGO_MASS, VRU_MASS
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
@@ -226,7 +227,7 @@ class Ego(StrictModel):
 class Obstacle(StrictModel):
     """A static box (e.g. a parked car) that blocks the onboard sensor's line of sight; it never collides."""
 
-    kind: str = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
+    kind: OneLineText = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
     centre: Pose = Field(description="centre of the rectangle; heading_deg along its length")
     length_m: float = Field(gt=0)
     width_m: float = Field(gt=0)
@@ -490,8 +491,8 @@ class MetricsSettings(StrictModel):
 class Scenario(StrictModel):
     """One closed-loop test case: the single source of truth for a run."""
 
-    name: str = Field(min_length=1)
-    description: str = ""
+    name: OneLineText = Field(min_length=1)
+    description: Text = ""
     road: Road = Road()
     ego: Ego
     sensor: Sensor = Sensor()
