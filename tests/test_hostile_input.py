@@ -14,6 +14,7 @@ from conftest import minimal_scenario_dict
 from vrusim.errors import UserInputError
 from vrusim.limits import LIMITS, check_limit, env_name, limit
 from vrusim.scenario.loading import load_scenario
+from vrusim.scenario.v2x import load_profiles
 from vrusim.scenario.yaml_file import parse_yaml
 
 
@@ -159,3 +160,29 @@ def test_a_control_character_in_free_text_is_refused_before_export(tmp_path, fie
     result = invoke("export", path, "--format", "openscenario", "--out", tmp_path / "out")
     assert_user_error(result, f"{field}: contains the control character U+0001")
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    ("written", "reading"),
+    [
+        ("010", "010 is the octal number 8 in YAML 1.1; write 8 if you mean it, 10 if not (no leading zero)"),
+        ("1:30", "1:30 is the base-60 number 90 in YAML 1.1; write 90 if you mean it, or '1:30' for text"),
+        ("0b11", "0b11 is the binary number 3 in YAML 1.1; write 3 if you mean it"),
+        ("1:30.5", "1:30.5 is the base-60 number 90.5"),
+    ],
+)
+def test_a_yaml_1_1_number_that_reads_otherwise_is_refused_with_its_line(tmp_path, written, reading):
+    text = _scenario_text().replace("cruise_speed_mps: 10.0", f"cruise_speed_mps: {written}")
+    line = 1 + text.splitlines().index(f"  cruise_speed_mps: {written}")
+    result = invoke("run", _write(tmp_path, text))
+    assert_user_error(result, f"scenario.yaml: line {line}, column 21: {reading}")
+    with pytest.raises(UserInputError, match="octal number 15"):
+        load_profiles(_write(tmp_path, "mine: {latency_s: 017}\n", "profiles.yaml"))
+    sweep = _write(tmp_path, "base: scenario.yaml\nsamples: 0b10\n", "sweep.yaml")
+    assert_user_error(invoke("sweep", sweep, "--dry-run"), "sweep.yaml: line 2, column 10: 0b10 is the binary number 2")
+
+
+def test_numbers_yaml_1_2_reads_alike_and_quoted_text_still_load():
+    assert parse_yaml("[10, 0, -0, 0.5, 010.5, 1.0e+3, 0x1F, '010', \"1:30\", a0b1]") == [
+        10, 0, 0, 0.5, 10.5, 1000.0, 31, "010", "1:30", "a0b1"
+    ]  # fmt: skip
