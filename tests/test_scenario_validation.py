@@ -93,6 +93,12 @@ CASES = [
     ),
     ("dt-zero", lambda d: d["sim"].update(dt_s=0.0), "sim.dt_s", r"greater than 0"),
     ("dt-negative", lambda d: d["sim"].update(dt_s=-0.01), "sim.dt_s", r"greater than 0"),
+    (
+        "dt-below-a-microsecond",  # 1e-200 s passed and overflowed the jerk to null
+        lambda d: d["sim"].update(dt_s=1.0e-200, duration_s=1.0e-198),
+        "sim.dt_s",
+        r"at least 1e-06 s \(1 µs\), got 1e-200",
+    ),
     ("fov-zero", lambda d: d.update(sensor={"fov_deg": 0}), "sensor.fov_deg", r"greater than 0"),
     ("fov-361", lambda d: d.update(sensor={"fov_deg": 361}), "sensor.fov_deg", r"less than or equal to 360"),
     (

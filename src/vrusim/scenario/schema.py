@@ -32,6 +32,8 @@ from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 MAX_STEPS = 10_000_000
 """Most time steps one run may take."""
+MIN_DT_S = 1e-6
+"""Smallest time step, s (1 µs): finer steps add nothing physical, and differences over them (jerk) overflow."""
 
 
 class Point(StrictModel):
@@ -439,6 +441,13 @@ class SimSettings(StrictModel):
     seed: int = Field(0, ge=0, lt=2**63, description="key of the variant's random numbers (sensor, V2X)")
     stop_on_collision: bool = True
     stop_at_route_end: bool = True
+
+    @field_validator("dt_s")
+    @classmethod
+    def _physical_step(cls, dt_s: float) -> float:
+        if dt_s < MIN_DT_S:
+            raise ValueError(f"Input should be at least {MIN_DT_S:g} s (1 µs), got {dt_s:g}")
+        return dt_s
 
     @model_validator(mode="after")
     def _enough_steps(self) -> Self:
