@@ -3,16 +3,21 @@ on disk" promise, kept as a regression test. Limits: `vrusim.limits`, docs/limit
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
 from cli_helpers import assert_user_error, invoke
-from conftest import minimal_scenario_dict
+from conftest import REPO_ROOT, minimal_scenario_dict
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.limits import LIMITS, check_limit, env_name, limit
+from vrusim.metrics.summary import summary_rows
+from vrusim.scenario.bounds import bound_of
 from vrusim.scenario.loading import load_scenario
 from vrusim.scenario.v2x import load_profiles
 from vrusim.scenario.yaml_file import parse_yaml
@@ -186,3 +191,16 @@ def test_numbers_yaml_1_2_reads_alike_and_quoted_text_still_load():
     assert parse_yaml("[10, 0, -0, 0.5, 010.5, 1.0e+3, 0x1F, '010', \"1:30\", a0b1]") == [
         10, 0, 0, 0.5, 10.5, 1000.0, 31, "010", "1:30", "a0b1"
     ]  # fmt: skip
+
+
+def test_a_gain_per_metre_is_no_length_and_a_huge_one_keeps_the_run_finite():
+    """`heading_gain_per_m` (1/m) was bounded as a length ("1e+308 m exceeds the limit"); gains are unbounded
+    (docs/limits.md) and 1e308 saturates the steering without NaN or inf."""
+    assert bound_of("heading_gain_per_m") is None and bound_of("lateral_gain_per_m2") is None
+    assert bound_of("cruise_gain_per_s") is None and bound_of("range_m") == "length_m"
+    turning = load_scenario(REPO_ROOT / "scenarios" / "examples" / "right_turn_cyclist.yaml")
+    huge = {"ego.tracking.heading_gain_per_m": 1e308, "ego.tracking.lateral_gain_per_m2": 1e308}
+    run = simulate([turning, turning.replace(**huge)], trace=True)
+    for name in ("ego_x_m", "ego_y_m", "ego_heading_x", "ego_curvature_per_m"):
+        assert np.isfinite(run.trace[name]).all(), name
+    assert all(math.isfinite(row["peak_lateral_accel_mps2"]) for row in summary_rows(run))
