@@ -32,6 +32,8 @@ from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 MAX_STEPS = 10_000_000
 """Most time steps one run may take."""
+MAX_SEED = 2**63 - 1
+"""Largest `sim.seed`."""
 MIN_DT_S = 1e-6
 """Smallest time step, s (1 µs): finer steps add nothing physical, and differences over them (jerk) overflow."""
 
@@ -438,7 +440,7 @@ class SimSettings(StrictModel):
 
     dt_s: float = Field(0.01, gt=0, le=0.1)
     duration_s: float = Field(15.0, gt=0, le=3600)
-    seed: int = Field(0, ge=0, lt=2**63, description="key of the variant's random numbers (sensor, V2X)")
+    seed: int = Field(0, ge=0, lt=MAX_SEED + 1, description="key of the variant's random numbers (sensor, V2X)")
     stop_on_collision: bool = True
     stop_at_route_end: bool = True
 
