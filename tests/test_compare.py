@@ -45,6 +45,10 @@ def test_compare_reproduces_the_single_runs():
         (["--planners", " , "], ["--planners"]),
         (["--v2x", "no-such-profile"], ["--v2x", "no-such-profile", "typical"]),
         (["--seeds", "0"], ["--seeds"]),
+        (  # the last seed, 2^63, named sim.seed
+            ["--v2x", "off", "--seeds", "2", "--seed", "9223372036854775807"],
+            ["--seed, --seeds:", "give --seed from 0 to 9,223,372,036,854,775,806 with --seeds 2"],
+        ),
     ],
 )
 def test_bad_options_are_user_errors(args, names):

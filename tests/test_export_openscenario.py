@@ -330,8 +330,10 @@ def test_cli_commonroad_exports_simulated_runs_that_load(tmp_path):
         (["CPNA-25/20kph/dai"], ["SOURCE", "CPNA-25/20kph/day"]),
         (["CPXX"], ["SOURCE", "did you mean CPNA"]),
         (["missing.yaml"], ["missing.yaml"]),
+        ([str(YAML_FILES[0]), "--night"], ["--night: only for catalogue tests"]),  # was ignored
+        (["paper:pedestrian", "--night"], ["--night: only for catalogue tests"]),
     ],
-    ids=["format", "unknown-id", "unknown-code", "missing-file"],
+    ids=["format", "unknown-id", "unknown-code", "missing-file", "night-file", "night-bundled"],
 )
 def test_cli_errors_write_nothing(tmp_path, args, names):
     out = tmp_path / "out"

@@ -3,17 +3,23 @@ on disk" promise, kept as a regression test. Limits: `vrusim.limits`, docs/limit
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
 from cli_helpers import assert_user_error, invoke
-from conftest import minimal_scenario_dict
+from conftest import REPO_ROOT, minimal_scenario_dict
+from vrusim.engine.simulate import simulate
 from vrusim.errors import UserInputError
 from vrusim.limits import LIMITS, check_limit, env_name, limit
+from vrusim.metrics.summary import summary_rows
+from vrusim.scenario.bounds import bound_of
 from vrusim.scenario.loading import load_scenario
+from vrusim.scenario.v2x import load_profiles
 from vrusim.scenario.yaml_file import parse_yaml
 
 
@@ -151,3 +157,50 @@ def test_limits_are_documented_and_changed_by_their_environment_variable(monkeyp
 def test_valid_files_still_load():
     for path in sorted((Path(__file__).resolve().parents[1] / "scenarios").rglob("*.yaml")):
         load_scenario(path)
+
+
+@pytest.mark.parametrize("field", ["name", "description"])
+def test_a_control_character_in_free_text_is_refused_before_export(tmp_path, field):
+    path = _write(tmp_path, _scenario_text(**{field: "a\x01b"}))
+    result = invoke("export", path, "--format", "openscenario", "--out", tmp_path / "out")
+    assert_user_error(result, f"{field}: contains the control character U+0001")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    ("written", "reading"),
+    [
+        ("010", "010 is the octal number 8 in YAML 1.1; write 8 if you mean it, 10 if not (no leading zero)"),
+        ("1:30", "1:30 is the base-60 number 90 in YAML 1.1; write 90 if you mean it, or '1:30' for text"),
+        ("0b11", "0b11 is the binary number 3 in YAML 1.1; write 3 if you mean it"),
+        ("1:30.5", "1:30.5 is the base-60 number 90.5"),
+    ],
+)
+def test_a_yaml_1_1_number_that_reads_otherwise_is_refused_with_its_line(tmp_path, written, reading):
+    text = _scenario_text().replace("cruise_speed_mps: 10.0", f"cruise_speed_mps: {written}")
+    line = 1 + text.splitlines().index(f"  cruise_speed_mps: {written}")
+    result = invoke("run", _write(tmp_path, text))
+    assert_user_error(result, f"scenario.yaml: line {line}, column 21: {reading}")
+    with pytest.raises(UserInputError, match="octal number 15"):
+        load_profiles(_write(tmp_path, "mine: {latency_s: 017}\n", "profiles.yaml"))
+    sweep = _write(tmp_path, "base: scenario.yaml\nsamples: 0b10\n", "sweep.yaml")
+    assert_user_error(invoke("sweep", sweep, "--dry-run"), "sweep.yaml: line 2, column 10: 0b10 is the binary number 2")
+
+
+def test_numbers_yaml_1_2_reads_alike_and_quoted_text_still_load():
+    assert parse_yaml("[10, 0, -0, 0.5, 010.5, 1.0e+3, 0x1F, '010', \"1:30\", a0b1]") == [
+        10, 0, 0, 0.5, 10.5, 1000.0, 31, "010", "1:30", "a0b1"
+    ]  # fmt: skip
+
+
+def test_a_gain_per_metre_is_no_length_and_a_huge_one_keeps_the_run_finite():
+    """`heading_gain_per_m` (1/m) was bounded as a length ("1e+308 m exceeds the limit"); gains are unbounded
+    (docs/limits.md) and 1e308 saturates the steering without NaN or inf."""
+    assert bound_of("heading_gain_per_m") is None and bound_of("lateral_gain_per_m2") is None
+    assert bound_of("cruise_gain_per_s") is None and bound_of("range_m") == "length_m"
+    turning = load_scenario(REPO_ROOT / "scenarios" / "examples" / "right_turn_cyclist.yaml")
+    huge = {"ego.tracking.heading_gain_per_m": 1e308, "ego.tracking.lateral_gain_per_m2": 1e308}
+    run = simulate([turning, turning.replace(**huge)], trace=True)
+    for name in ("ego_x_m", "ego_y_m", "ego_heading_x", "ego_curvature_per_m"):
+        assert np.isfinite(run.trace[name]).all(), name
+    assert all(math.isfinite(row["peak_lateral_accel_mps2"]) for row in summary_rows(run))

@@ -93,6 +93,12 @@ CASES = [
     ),
     ("dt-zero", lambda d: d["sim"].update(dt_s=0.0), "sim.dt_s", r"greater than 0"),
     ("dt-negative", lambda d: d["sim"].update(dt_s=-0.01), "sim.dt_s", r"greater than 0"),
+    (
+        "dt-below-a-microsecond",  # 1e-200 s passed and overflowed the jerk to null
+        lambda d: d["sim"].update(dt_s=1.0e-200, duration_s=1.0e-198),
+        "sim.dt_s",
+        r"at least 1e-06 s \(1 µs\), got 1e-200",
+    ),
     ("fov-zero", lambda d: d.update(sensor={"fov_deg": 0}), "sensor.fov_deg", r"greater than 0"),
     ("fov-361", lambda d: d.update(sensor={"fov_deg": 361}), "sensor.fov_deg", r"less than or equal to 360"),
     (
@@ -347,3 +353,32 @@ def test_every_number_and_switch_of_a_paper_file_takes_only_its_type(name):
             path, reason = only_field(rejected(_replaced(data, location, bad)))
             assert path == field_path(location), (location, bad)
             assert reason.startswith("Input should be a valid"), reason
+
+
+@pytest.mark.parametrize(
+    ("field", "text", "reason"),
+    [
+        ("name", "a\x01b", "contains the control character U+0001 (character 2); expected one line"),
+        ("name", "x\ud800y", "contains a lone surrogate U+D800 (character 2)"),
+        ("name", "two\nlines", "contains the control character U+000A (character 4)"),
+        ("description", "bad \x01 char", "contains the control character U+0001 (character 5); expected printable"),
+        ("description", "x\ud800y", "contains a lone surrogate U+D800 (character 2)"),
+        ("description", "c1 \x85", "contains the control character U+0085"),
+        ("description", "no\ufffe", "contains the non-character U+FFFE"),
+        ("obstacles[0].kind", "van\x1b[31m", "contains the control character U+001B (character 4)"),
+    ],
+)
+def test_free_text_that_no_output_can_carry_is_refused(scenario_dict, field, text, reason):
+    """Control characters and lone surrogates broke the export (XML) and the report (fonts) after loading."""
+    if field.startswith("obstacles"):
+        scenario_dict["obstacles"] = [{"kind": text, "centre": [0.0, 30.0], "length_m": 4.0, "width_m": 2.0}]
+    else:
+        scenario_dict[field] = text
+    path, message = only_field(rejected(scenario_dict))
+    assert path == field and reason in message
+
+
+def test_free_text_keeps_tabs_line_breaks_and_any_printable_character(scenario_dict):
+    scenario_dict.update(name="Ünïcödé 🚗 $x$ ‮", description="line 1\n\tline 2 €")
+    scenario = scenario_from_mapping(scenario_dict)
+    assert scenario.description == "line 1\n\tline 2 €"

@@ -4,6 +4,7 @@ a clear error naming SOURCE for a file `vrusim view` cannot use."""
 from __future__ import annotations
 
 import numpy as np
+import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
@@ -61,3 +62,52 @@ def test_a_file_that_is_no_trace_is_one_message_naming_source(tmp_path):
     path = tmp_path / "trace.parquet"
     path.write_bytes(b"not parquet")
     assert_user_error(_view_trace(path, tmp_path), "SOURCE", "cannot read trace")
+
+
+def _edited_csv(run, tmp_path, column: str, cell: str, row: int = 4):
+    """A CSV trace with one cell replaced (row from 0, so on line row + 2)."""
+    path = tmp_path / "trace.csv"
+    write_trace(run, path)
+    lines = path.read_text().splitlines()
+    header = [name.strip('"') for name in lines[0].split(",")]
+    cells = lines[row + 1].split(",")
+    cells[header.index(column)] = cell
+    lines[row + 1] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("column", "cell", "problem"),
+    [
+        ("ego_x_m", "abc", "'abc' is not a number"),
+        ("ego_x_m", "inf", "inf is not a finite number"),
+        ("ego_x_m", "nan", "has no value"),
+        ("t_s", "", "has no value"),
+        ("ttc_s", "-inf", "-inf is not a finite number"),
+        ("vru0_y_m", "1e999", "inf is not a finite number"),
+        ("vru0_detected", "maybe", "'maybe' is not true or false"),
+        ("vru0_source", "300", "300 is not 0, 1, 2 or 3"),
+    ],
+)
+def test_a_cell_that_is_no_finite_number_is_named_by_line_and_column(run, tmp_path, column, cell, problem):
+    path = _edited_csv(run, tmp_path, column, cell)
+    assert_user_error(_view_trace(path, tmp_path), "SOURCE", f"trace.csv: line 6, column {column}: {problem}")
+    assert not (tmp_path / "page.html").exists()
+
+
+def test_a_non_finite_number_in_a_parquet_trace_is_named_by_row(run, tmp_path):
+    path = tmp_path / "trace.parquet"
+    write_trace(run, path)
+    table = pq.read_table(path)
+    values = table.column("ego_speed_mps").to_numpy().copy()
+    values[2] = np.nan
+    pq.write_table(table.set_column(table.column_names.index("ego_speed_mps"), "ego_speed_mps", pa.array(values)), path)
+    assert_user_error(_view_trace(path, tmp_path), "SOURCE", "row 3, column ego_speed_mps: nan is not a finite number")
+
+
+def test_an_empty_ttc_or_v2x_age_is_no_value_not_an_error(run, tmp_path):
+    path = _edited_csv(run, tmp_path, "vru0_v2x_age_s", "")
+    trace, _ = read_trace(_edited_csv(run, tmp_path, "ttc_s", ""), 1)
+    assert np.isinf(trace["ttc_s"][4])
+    assert np.isnan(read_trace(path, 1)[0]["vru_v2x_age_s"][4, 0])

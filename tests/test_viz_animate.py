@@ -3,6 +3,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+import warnings
+
 import imageio.v2 as imageio_v2
 import imageio.v3 as iio
 import numpy as np
@@ -122,3 +125,11 @@ def test_frames_beyond_the_budget_are_refused_before_drawing(tmp_path, monkeypat
     with pytest.raises(UserInputError, match="40 frames exceeds the limit of 30"):
         write_animation(rec, tmp_path / "run.gif", fps=FPS)
     assert write_animation(rec, tmp_path / "run.gif", fps=FPS, speed=4.0).exists()  # 10 frames of a 5 s run
+
+
+def test_a_dollar_or_a_missing_glyph_in_the_name_is_drawn_literally_and_quietly(pedestrian, tmp_path):
+    rec = dataclasses.replace(pedestrian, scenario=pedestrian.scenario.replace(name="A$$B 🚗"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        path = write_animation(rec, tmp_path / "a.gif", fps=2.0, width_in=WIDTH_IN, dpi=DPI)
+    assert path.stat().st_size > 0

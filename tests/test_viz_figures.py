@@ -3,7 +3,9 @@ events say, and the figure options of `vrusim run` / `vrusim paper` with their e
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -12,14 +14,18 @@ from hypothesis import strategies as st
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
+from matplotlib.text import Text
 from PIL import Image
 
 from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR
 from vrusim.paper.cases import paper_scenarios
+from vrusim.report.figures import png_bytes
 from vrusim.viz import style
+from vrusim.viz.figure_io import write_figure
 from vrusim.viz.recording import KEY_EVENT_LABELS, record
-from vrusim.viz.scene import SceneArtists, ViewWindow
+from vrusim.viz.runplot import run_figure
+from vrusim.viz.scene import SceneArtists, ViewWindow, scene_figure
 from vrusim.viz.snapshots import snapshot_figure
 from vrusim.viz.timeseries import mode_spans, timeseries_figure
 
@@ -334,3 +340,21 @@ def test_ray_box_distance_matches_marching_along_the_ray(apex, centre, heading_d
         lx = (hit[0] - centre[0]) * box[2] + (hit[1] - centre[1]) * box[3]
         ly = (hit[1] - centre[1]) * box[2] - (hit[0] - centre[0]) * box[3]
         assert abs(lx) <= box[4] + 1e-6 and abs(ly) <= box[5] + 1e-6
+
+
+# ----------------------------------------------------------------------------------------------- user text
+
+
+@pytest.mark.parametrize("name", ["A$$B", "a $x^$ b", "$_$", "$x$ 🚗"])
+def test_user_text_is_drawn_literally_and_quietly(pedestrian, tmp_path, name):
+    """A `$` in a scenario name or description is a dollar sign (no mathtext, which failed to parse `A$$B`); a
+    character the font lacks is drawn without a warning on stderr."""
+    scenario = pedestrian[0].scenario.replace(name=name, description=f"text {name}")
+    rec = dataclasses.replace(pedestrian[0], scenario=scenario)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = run_figure([rec], dpi=40.0)
+        write_figure(fig, tmp_path / "run.png", dpi=40.0)
+        assert png_bytes(scene_figure(rec, 0.0, width_in=4.0, dpi=40.0), dpi=40.0).startswith(b"\x89PNG")
+    assert any(name in t.get_text() for t in fig.findobj(Text))
+    assert not any(t.get_parse_math() for t in fig.findobj(Text))

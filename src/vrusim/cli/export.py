@@ -67,14 +67,17 @@ def export_command(
     out: Annotated[Path, out_dir_option("the exported files")],
     force: ForceOption = False,
     night: Annotated[
-        bool, typer.Option("--night", help="With a catalogue code or 'all': also the night tests.")
+        bool,
+        typer.Option("--night", help="With a catalogue code or 'all': also the night tests (not for a scenario file)."),
     ] = False,
     as_json: JsonOption = False,
 ) -> None:
     """Export scenarios for other tools: OpenSCENARIO XML with its OpenDRIVE road, or CommonRoad."""
-    from vrusim.sources import resolve_source
+    from vrusim.sources import resolve_source, scenario_file
 
     with user_errors():
+        if night and scenario_file(source) is not None:
+            raise UserInputError("--night: only for catalogue tests (a code or prefix, or 'all'), not a scenario file")
         check_out_dir(out, force)
         scenarios = resolve_source(source, night)
         written = _export_all(scenarios, fmt, out)

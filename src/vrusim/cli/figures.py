@@ -96,4 +96,10 @@ def write_paper_figures(directory: Path, dpi: float = PAPER_FIGURE_DPI) -> list[
 
 
 def _saver(fig, dpi: float):
-    return lambda temp: fig.savefig(temp, format="png", dpi=dpi)
+    from vrusim.viz.literal_text import drawing
+
+    def save(temp) -> None:
+        with drawing(fig):
+            fig.savefig(temp, format="png", dpi=dpi)
+
+    return save

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.compute as pc
 import pyarrow.csv as pa_csv
 import pyarrow.parquet as pq
 
@@ -109,35 +110,98 @@ def write_trace(run: BatchRun, path: str | Path, variant: int = 0) -> int:
     return table.num_rows
 
 
-def _read_list(table: dict[str, list], name: str, path: Path) -> list:
-    if name not in table:
+MAX_MODES = int(np.iinfo(np.int8).max)
+"""Most planner modes a trace can name (the engine records a mode as an int8)."""
+NULLABLE = ("ttc_s", "clearance_m", "v2x_age_s")
+"""Columns (ending in these names) a trace may leave empty: no time-to-collision, no V2X message held."""
+
+
+def _place(path: Path, row: int) -> str:
+    """Where row `row` (from 0) of a trace file is: its line in a CSV file (after the header), else its row."""
+    return f"line {row + 2}" if trace_format(path) == "csv" else f"row {row + 1}"
+
+
+def _column(table: pa.Table, name: str, path: Path) -> pa.ChunkedArray:
+    if name not in table.column_names:
         raise UserInputError(f"{path} has no column {name!r}; expected a trace written by `vrusim run --trace`")
-    return table[name]
+    return table.column(name)
 
 
-def _read_column(table: dict[str, list], name: str, path: Path) -> np.ndarray:
-    """A column as floats (null: NaN)."""
-    return np.array([np.nan if v is None else v for v in _read_list(table, name, path)], dtype=float)
+def _read_list(table: pa.Table, name: str, path: Path) -> list:
+    return _column(table, name, path).to_pylist()
+
+
+def _parsed(column: pa.ChunkedArray, name: str, path: Path) -> np.ndarray:
+    """A column of text (CSV cells pyarrow could not all read as numbers) as floats (empty: NaN, "nan": inf);
+    UserInputError naming the line of the first cell that is no number."""
+    values = np.full(len(column), np.nan)
+    for row, value in enumerate(column.to_pylist()):
+        text = "" if value is None else str(value).strip().lower()
+        if name.endswith("_detected") and text in ("true", "false"):
+            values[row] = float(text == "true")
+        elif text:
+            try:
+                number = float(text)
+            except ValueError:
+                expected = "true or false" if name.endswith("_detected") else "a number"
+                raise UserInputError(
+                    f"{path}: {_place(path, row)}, column {name}: {value!r} is not {expected}"
+                ) from None
+            values[row] = np.inf if np.isnan(number) else number
+    return values
+
+
+def _read_column(table: pa.Table, name: str, path: Path) -> np.ndarray:
+    """A column as floats (empty: NaN); UserInputError naming the line and column of a cell that is no finite
+    number, an empty cell where the column needs a value (all but NULLABLE), or a VRU source other than 0-3."""
+    column = _column(table, name, path)
+    kind = column.type
+    if pa.types.is_integer(kind) or pa.types.is_floating(kind) or pa.types.is_boolean(kind):
+        values = np.array(pc.cast(column, pa.float64()).fill_null(np.inf).to_numpy(), dtype=float)
+        values[np.isnan(values)] = np.inf  # a NaN stored as a number is no empty cell
+        values[np.asarray(column.is_null().to_numpy(zero_copy_only=False), dtype=bool)] = np.nan
+    elif pa.types.is_null(kind):
+        values = np.full(len(column), np.nan)
+    else:
+        values = _parsed(column, name, path)
+    problems = [(np.isinf(values), "is not a finite number")]
+    if not name.endswith(NULLABLE):
+        problems.append((np.isnan(values), "has no value (an empty cell or nan); expected a finite number"))
+    if name.endswith("_source"):
+        problems.append((np.isfinite(values) & ~np.isin(values, (0, 1, 2, 3)), "is not 0, 1, 2 or 3"))
+    for bad, problem in problems:
+        if bad.any():
+            row = int(np.argmax(bad))
+            cell = column[row].as_py()
+            raise UserInputError(
+                f"{path}: {_place(path, row)}, column {name}: {'' if cell is None else repr(cell) + ' '}{problem}"
+            )
+    return values
 
 
 def read_trace(path: Path, vru_count: int) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
     """A trace file of `write_trace` read back: the trace arrays of its one variant as the engine records them
     ([T], per VRU [T, K]; null is NaN, a null TTC infinite) and the planner's mode names in order of appearance.
     A file written before vru{k}_v2x_age_s existed gets NaN there. UserInputError naming the file when it cannot
-    be read, lacks a column, holds no rows or has no columns for `vru_count` VRUs.
+    be read, lacks a column, holds no rows or has no columns for `vru_count` VRUs, and naming the line (CSV) or
+    row (Parquet) and column of a cell that is no finite number or is empty where a number is needed.
     """
     try:
         data = pq.read_table(path) if trace_format(path) == "parquet" else pa_csv.read_csv(path)
     except (OSError, pa.ArrowException) as error:
         raise UserInputError(f"cannot read trace {path} ({error})") from None
-    table = data.to_pydict()
-    if any(f"vru{k}_x_m" not in table for k in range(vru_count)):
+    table = data
+    if any(f"vru{k}_x_m" not in table.column_names for k in range(vru_count)):
         raise UserInputError(f"{path} has no columns of {vru_count} VRUs (vru0_x_m ... vru{vru_count - 1}_x_m)")
-    if not table.get("t_s"):
+    if "t_s" not in table.column_names or table.num_rows == 0:
         raise UserInputError(f"{path} holds no trace rows")
-    rows = len(table["t_s"])
+    rows = table.num_rows
     heading = np.radians(_read_column(table, "ego_heading_deg", path))
-    names = tuple(dict.fromkeys(str(m) for m in table.get("planner_mode", [])))
+    names = tuple(dict.fromkeys(str(m) for m in _read_list(table, "planner_mode", path)))
+    if len(names) > MAX_MODES:
+        raise UserInputError(
+            f"{path}: column planner_mode names {len(names):,} modes; a planner has at most {MAX_MODES}"
+        )
     trace = {
         "t_s": _read_column(table, "t_s", path),
         "ego_heading_x": np.cos(heading),
@@ -151,7 +215,7 @@ def read_trace(path: Path, vru_count: int) -> tuple[dict[str, np.ndarray], tuple
 
     def per_vru(column: str, absent: float | None = None) -> np.ndarray:
         values = [
-            np.full(rows, absent) if absent is not None and f"vru{k}_{column}" not in table
+            np.full(rows, absent) if absent is not None and f"vru{k}_{column}" not in table.column_names
             else _read_column(table, f"vru{k}_{column}", path)
             for k in range(vru_count)
         ]  # fmt: skip

@@ -23,6 +23,7 @@ from vrusim.engine.simulate import BatchRun, TraceRecorder
 from vrusim.engine.stepper import BatchStepper
 from vrusim.metrics.summary import summary_rows
 from vrusim.scenario.schema import Scenario
+from vrusim.viz.literal_text import literal_texts, quiet_text
 from vrusim.viz.recording import Recording, ego_route_xy_m, key_events, vru_paths_xy_m
 from vrusim.viz.scene import ScenePanel, ViewWindow, scene_figure_size_in
 
@@ -93,7 +94,7 @@ class EpisodeFrames:
         if self.panel is None:
             self.panel = ScenePanel(new_figure(self.size_in), recording, self.window)
         self.panel.show(recording, float(recording.t_s[-1]))
-        return self.panel.figure
+        return literal_texts(self.panel.figure)
 
     def forget_figure(self) -> None:
         """Draw on a new figure next time."""
@@ -102,7 +103,8 @@ class EpisodeFrames:
     def frame(self, run: BatchRun) -> np.ndarray:
         """RGB image (uint8 [H, W, 3]) of the latest recorded state (rgb_array)."""
         canvas = self.draw(run, agg_figure).canvas
-        canvas.draw()
+        with quiet_text():
+            canvas.draw()
         return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
 
 

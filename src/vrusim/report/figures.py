@@ -9,6 +9,7 @@ import struct
 from matplotlib.figure import Figure
 
 from vrusim.report.html import Html, tag, void
+from vrusim.viz.literal_text import drawing
 
 DEFAULT_DPI = 90.0
 """Resolution of embedded figures, dots per inch (a compromise between sharpness and file size)."""
@@ -17,7 +18,8 @@ DEFAULT_DPI = 90.0
 def png_bytes(fig: Figure, dpi: float = DEFAULT_DPI) -> bytes:
     """The figure as PNG."""
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=dpi)
+    with drawing(fig):
+        fig.savefig(buffer, format="png", dpi=dpi)
     return buffer.getvalue()
 
 

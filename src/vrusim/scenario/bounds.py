@@ -1,7 +1,8 @@
 """Physical bounds on user-written fields, chosen by the unit in the field's name (docs/limits.md).
 
 A field `x_m` or `y_m` is a coordinate (limit `coordinate_m`), any other field ending in `_m` a length or
-distance (`length_m`), `_mps` a speed (`speed_mps`), `_mps2` an acceleration (`accel_mps2`). A huge but
+distance (`length_m`), `_mps` a speed (`speed_mps`), `_mps2` an acceleration (`accel_mps2`); a rate or gain
+`..._per_<unit>` (`heading_gain_per_m`, 1/m) is none of these. A huge but
 finite number (1e308 m, a point 10^15 m away) would otherwise pass validation and then overflow or allocate
 without end. `StrictModel` checks every field this way after its own validation, so the error names the
 field's exact path (`ego.route.length_m`, `vrus[0].path[3].x_m`); the limits change with their variables
@@ -30,6 +31,8 @@ def bound_of(field: str) -> str | None:
     or None for a field without a physical bound."""
     if field in COORDINATE_FIELDS:
         return "coordinate_m"
+    if "_per_" in field:  # a quantity per unit: heading_gain_per_m is in 1/m, not a length
+        return None
     for suffix, name in SUFFIX_LIMITS:
         if field.endswith(suffix):
             return name

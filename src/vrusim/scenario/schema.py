@@ -25,12 +25,17 @@ from vrusim.scenario.field_paths import replaced
 from vrusim.scenario.road_lines import RoadLine, RoadSurface, points_excess
 from vrusim.scenario.score_profiles import MAX_CLEARANCE_THRESHOLD_M
 from vrusim.scenario.strict import StrictModel, the_one_given
+from vrusim.scenario.text import OneLineText, Text
 from vrusim.scenario.v2x import ChannelSpec, check_channel, resolve_channel
 from vrusim.scenario.vru_masses import EGO_MASS, VRU_MASS
 from vrusim.scenario.vru_types import VRU_DEFAULTS, VruType
 
 MAX_STEPS = 10_000_000
 """Most time steps one run may take."""
+MAX_SEED = 2**63 - 1
+"""Largest `sim.seed`."""
+MIN_DT_S = 1e-6
+"""Smallest time step, s (1 µs): finer steps add nothing physical, and differences over them (jerk) overflow."""
 
 
 class Point(StrictModel):
@@ -226,7 +231,7 @@ class Ego(StrictModel):
 class Obstacle(StrictModel):
     """A static box (e.g. a parked car) that blocks the onboard sensor's line of sight; it never collides."""
 
-    kind: str = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
+    kind: OneLineText = Field("car", min_length=1, description="free label, e.g. 'small car', 'SUV'")
     centre: Pose = Field(description="centre of the rectangle; heading_deg along its length")
     length_m: float = Field(gt=0)
     width_m: float = Field(gt=0)
@@ -435,9 +440,16 @@ class SimSettings(StrictModel):
 
     dt_s: float = Field(0.01, gt=0, le=0.1)
     duration_s: float = Field(15.0, gt=0, le=3600)
-    seed: int = Field(0, ge=0, lt=2**63, description="key of the variant's random numbers (sensor, V2X)")
+    seed: int = Field(0, ge=0, lt=MAX_SEED + 1, description="key of the variant's random numbers (sensor, V2X)")
     stop_on_collision: bool = True
     stop_at_route_end: bool = True
+
+    @field_validator("dt_s")
+    @classmethod
+    def _physical_step(cls, dt_s: float) -> float:
+        if dt_s < MIN_DT_S:
+            raise ValueError(f"Input should be at least {MIN_DT_S:g} s (1 µs), got {dt_s:g}")
+        return dt_s
 
     @model_validator(mode="after")
     def _enough_steps(self) -> Self:
@@ -490,8 +502,8 @@ class MetricsSettings(StrictModel):
 class Scenario(StrictModel):
     """One closed-loop test case: the single source of truth for a run."""
 
-    name: str = Field(min_length=1)
-    description: str = ""
+    name: OneLineText = Field(min_length=1)
+    description: Text = ""
     road: Road = Road()
     ego: Ego
     sensor: Sensor = Sensor()

@@ -4,10 +4,15 @@ A file is data from anyone, so reading is bounded before it starts (`vrusim.limi
 files only (not a device, FIFO or folder, even behind a symlink), at most `input_file_bytes`, nesting at most
 `yaml_depth` levels, at most `yaml_nodes` values counting every use of an alias, numbers of at most
 `number_chars` characters and lists of at most `list_items` items.
+
+PyYAML reads YAML 1.1, whose numbers include forms that YAML 1.2 and most people read differently: `010` is
+octal (8), `1:30` base 60 (90), `0b11` binary (3). Such a plain scalar is refused with its line and the number
+it would have been, so a value never changes silently (`AmbiguousNumberError`); quoted it is text.
 """
 
 from __future__ import annotations
 
+import re
 import stat
 from pathlib import Path
 
@@ -19,6 +24,18 @@ from vrusim.limits import amount, check_limit, limit
 
 class InputLimitError(yaml.YAMLError):
     """A document beyond one of the input limits (its message says which)."""
+
+
+class AmbiguousNumberError(yaml.MarkedYAMLError):
+    """A plain scalar that YAML 1.1 reads as an octal, base-60 or binary number (its message says how to write it)."""
+
+
+_YAML11_NUMBERS = (
+    (re.compile(r"[-+]?0b[0-1_]+"), "binary"),
+    (re.compile(r"[-+]?0[0-7_]+"), "octal"),
+    (re.compile(r"[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+(?:\.[0-9_]*)?"), "base-60"),
+)
+"""The number forms of YAML 1.1 that YAML 1.2 reads otherwise (PyYAML's resolver patterns), and their names."""
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -44,11 +61,27 @@ class _UniqueKeyLoader(yaml.SafeLoader):
             raise InputLimitError(
                 f"a list of {amount(len(node.value))} items exceeds the limit of {amount(self._max_items)}"
             )
-        if isinstance(node, yaml.ScalarNode) and len(node.value) > self._max_number and node.tag in _NUMBER_TAGS:
-            raise InputLimitError(
-                f"a number of {amount(len(node.value))} characters exceeds the limit of {amount(self._max_number)}"
-            )
+        if isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS:
+            if len(node.value) > self._max_number:
+                raise InputLimitError(
+                    f"a number of {amount(len(node.value))} characters exceeds the limit of {amount(self._max_number)}"
+                )
+            self._check_unambiguous(node)
         return node
+
+    def _check_unambiguous(self, node: yaml.ScalarNode) -> None:
+        """Refuse a plain number in one of the YAML 1.1 forms of `_YAML11_NUMBERS`, saying what to write."""
+        if node.style is not None:
+            return
+        for pattern, form in _YAML11_NUMBERS:
+            if pattern.fullmatch(node.value):
+                value = self.construct_object(node)
+                hint = f"write {value} if you mean it"
+                decimal = int(node.value.replace("_", "")) if form == "octal" else value
+                if decimal != value:
+                    hint += f", {decimal} if not (no leading zero)"
+                problem = f"{node.value} is the {form} number {value} in YAML 1.1; {hint}, or '{node.value}' for text"
+                raise AmbiguousNumberError(None, None, problem, node.start_mark)
 
     def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
         seen: set = set()
@@ -120,6 +153,8 @@ def read_yaml_file(path: Path, kind: str) -> object:
         return parse_yaml(text)
     except InputLimitError as error:
         raise UserInputError(f"{path}: {error} (docs/limits.md)") from None
+    except AmbiguousNumberError as error:
+        raise UserInputError(f"{path}: {_describe(error)}") from None
     except yaml.YAMLError as error:
         raise UserInputError(f"{path}: not valid YAML ({_describe(error)})") from None
 

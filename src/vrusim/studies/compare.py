@@ -19,7 +19,7 @@ from vrusim.limits import check_limit
 from vrusim.metrics.summary import summary_rows
 from vrusim.planners.registry import make_planner
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.scenario.schema import Scenario
+from vrusim.scenario.schema import MAX_SEED, Scenario
 
 V2X_OFF = "off"
 """The `--v2x` value that switches V2X off."""
@@ -78,6 +78,11 @@ def compare(
     """One summary row per (planner, V2X setting) over `seeds` seeded variants (seeds `first_seed` onwards)."""
     if seeds < 1:
         raise UserInputError("--seeds: expected a positive number of seeds")
+    if not 0 <= first_seed <= MAX_SEED - (seeds - 1):
+        raise UserInputError(
+            f"--seed, --seeds: seeds {first_seed:,} to {first_seed + seeds - 1:,} leave the seed range 0 to 2^63 − 1; "
+            f"give --seed from 0 to {MAX_SEED - (seeds - 1):,} with --seeds {seeds:,}"
+        )
     what = f"--seeds: {seeds:,} seeds x {len(v2x)} V2X settings x {len(planners)} planners"
     check_limit("compare_runs", seeds * len(v2x) * len(planners), what)
     if base.v2x.rsu is None and any(name != V2X_OFF for name in v2x):

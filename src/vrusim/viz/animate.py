@@ -24,6 +24,7 @@ from vrusim.io.atomic import write_atomically
 from vrusim.limits import check_limit
 from vrusim.viz import style
 from vrusim.viz.figure_io import check_output_path
+from vrusim.viz.literal_text import drawing, quiet_text
 from vrusim.viz.recording import Recording
 from vrusim.viz.scene import SceneArtists, legend_handles, view_window
 from vrusim.viz.style import recording_labels
@@ -96,7 +97,8 @@ def animation_figure(recording: Recording, width_in: float = 8.0, dpi: float = 1
     handles, names = legend_handles([recording])
     fig.legend(handles, names, loc="outside lower center", ncol=min(len(handles), 5), fontsize=7, frameon=False)
     scene.update(0)
-    fig.canvas.draw()
+    with drawing(fig):
+        fig.canvas.draw()
     fig.set_layout_engine("none")  # freeze the layout
     return fig, scene
 
@@ -154,9 +156,9 @@ def write_animation(
     path = check_animation_path(path)
     check_frame_budget(float(recording.t_s[-1]), fps, speed)
     frames = iter_frames(recording, fps, width_in, dpi, speed)
-    if path.suffix.lower() == ".gif":
-        return write_atomically(path, lambda temp: _write_gif(frames, temp, fps), "animation")
-    return write_atomically(path, lambda temp: _write_mp4(frames, temp, fps), "animation")
+    write = _write_gif if path.suffix.lower() == ".gif" else _write_mp4
+    with quiet_text():  # the frames are drawn while writing
+        return write_atomically(path, lambda temp: write(frames, temp, fps), "animation")
 
 
 def _write_gif(frames: Iterator[np.ndarray], temp: Path, fps: float) -> None:

@@ -9,6 +9,7 @@ from matplotlib.figure import Figure
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_file, shown
+from vrusim.viz.literal_text import drawing
 
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 """Figure file types, chosen by suffix."""
@@ -34,4 +35,5 @@ def write_figure(fig: Figure, path: str | Path, dpi: float = 100.0) -> Path:
     """Save `fig` in the format of the suffix of `path`, atomically; return the path."""
     path = check_figure_path(path)
     fmt = path.suffix.lower().lstrip(".")
-    return write_atomically(path, lambda temp: fig.savefig(temp, format=fmt, dpi=dpi), "figure")
+    with drawing(fig):
+        return write_atomically(path, lambda temp: fig.savefig(temp, format=fmt, dpi=dpi), "figure")

@@ -9,6 +9,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from vrusim.viz.figure_io import write_figure
+from vrusim.viz.literal_text import literal_texts
 from vrusim.viz.recording import Recording
 from vrusim.viz.snapshots import draw_snapshots, snapshot_size_in
 from vrusim.viz.timeseries import draw_timeseries
@@ -27,7 +28,7 @@ def run_figure(recordings: Sequence[Recording], dpi: float = 100.0) -> Figure:
     draw_snapshots(top, recordings)
     draw_timeseries(bottom, recordings)
     bottom.suptitle("")
-    return fig
+    return literal_texts(fig)
 
 
 def write_run_figure(recordings: Sequence[Recording], path: str | Path, dpi: float = 100.0) -> Path:

@@ -26,6 +26,7 @@ from matplotlib.patches import Circle, Patch, Polygon, Rectangle
 from vrusim.scenario.schema import Road, Scenario
 from vrusim.sim.observation import SOURCE_SENSOR, SOURCE_V2X
 from vrusim.viz import style
+from vrusim.viz.literal_text import literal_texts
 from vrusim.viz.recording import Recording
 from vrusim.viz.road_lines import draw_road_lines, has_drawn_road
 
@@ -485,4 +486,4 @@ def scene_figure(
     fig = Figure(figsize=scene_figure_size_in(width_in, window), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
     ScenePanel(fig, recording, window).show(recording, t_s)
-    return fig
+    return literal_texts(fig)

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 
 from vrusim.io.atomic import write_atomically
 from vrusim.ncap.assess import Assessment
+from vrusim.viz.literal_text import drawing, literal_texts
 from vrusim.viz.ncap_colours import COLOUR_HEX, ink
 from vrusim.viz.scorecard_cells import CAPTION, cell_text, group_grid, groups_with_tests, panel_title, row_label
 
@@ -32,7 +33,7 @@ def scorecard_figure(assessment: Assessment, dpi: float = 100.0) -> Figure:
     fig.suptitle(title, fontweight="bold")
     if not panels:
         fig.text(0.5, 0.5, "no tests", ha="center", va="center")
-        return fig
+        return literal_texts(fig)
     axes = fig.subplots(len(panels), 1, squeeze=False, gridspec_kw={"height_ratios": heights})[:, 0]
     for ax, (group, _), (rows, speeds, cells) in zip(axes, panels, grids, strict=True):
         image = [
@@ -56,10 +57,11 @@ def scorecard_figure(assessment: Assessment, dpi: float = 100.0) -> Figure:
         ax.set_xlabel("VUT test speed (km/h)", fontsize=8)
         ax.set_title(panel_title(group), fontsize=10, loc="left")
     fig.supxlabel(CAPTION, fontsize=8)
-    return fig
+    return literal_texts(fig)
 
 
 def write_scorecard_png(assessment: Assessment, path: str | Path, dpi: float = 100.0) -> Path:
     """Render the heat map to a PNG at `path`, atomically (never a half-written file); return the path."""
     fig = scorecard_figure(assessment, dpi=dpi)
-    return write_atomically(path, lambda temp: fig.savefig(temp, format="png", dpi=dpi), "scorecard")
+    with drawing(fig):
+        return write_atomically(path, lambda temp: fig.savefig(temp, format="png", dpi=dpi), "scorecard")

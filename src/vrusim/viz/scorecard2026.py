@@ -19,6 +19,7 @@ from vrusim.io.atomic import write_atomically
 from vrusim.ncap.rating2026 import Assessment2026
 from vrusim.ncap.rating2026 import tables as t
 from vrusim.ncap.verification import VerificationReport
+from vrusim.viz.literal_text import drawing, literal_texts
 from vrusim.viz.ncap_colours import COLOUR_HEX, ink
 from vrusim.viz.scorecard2026_cells import (
     AXIS_TITLES,
@@ -129,7 +130,7 @@ def scorecard_2026_figure(
     fig.suptitle(title, fontweight="bold", fontsize=10)
     if not groups:
         fig.text(0.5, 0.5, "no scenarios", ha="center", va="center")
-        return fig
+        return literal_texts(fig)
     blocks = fig.subfigures(len(groups), 1, height_ratios=block_heights, squeeze=False)[:, 0]
     for block, (name, _), lines, heights in zip(blocks, groups, layout, row_heights, strict=True):
         block.suptitle(name, fontsize=9.5, x=0.0, ha="left", fontweight="bold")
@@ -152,7 +153,7 @@ def scorecard_2026_figure(
         title=caption,
         title_fontsize=7,
     )
-    return fig
+    return literal_texts(fig)
 
 
 def write_scorecard_2026_png(
@@ -160,4 +161,5 @@ def write_scorecard_2026_png(
 ) -> Path:
     """Render the 2026 scorecard to a PNG at `path`, atomically; return the path."""
     fig = scorecard_2026_figure(assessment, dpi=dpi, verification=verification)
-    return write_atomically(path, lambda temp: fig.savefig(temp, format="png", dpi=dpi), "scorecard")
+    with drawing(fig):
+        return write_atomically(path, lambda temp: fig.savefig(temp, format="png", dpi=dpi), "scorecard")

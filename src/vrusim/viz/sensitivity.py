@@ -20,6 +20,7 @@ from matplotlib.figure import Figure
 from vrusim.errors import UserInputError
 from vrusim.viz import figure_io
 from vrusim.viz.figure_io import check_figure_path
+from vrusim.viz.literal_text import literal_texts
 
 """Figure file suffix (case-insensitive) → matplotlib format."""
 SCORES = ("safety", "efficiency", "comfort")
@@ -168,7 +169,7 @@ def sensitivity_figure(
         _line(ax, summary, group_axis(summary, x), metric)
     else:
         _heat_map(fig, ax, summary, group_axis(summary, x), group_axis(summary, y), metric)
-    return fig
+    return literal_texts(fig)
 
 
 def _line(ax, summary: dict[str, Any], axis: GroupAxis, metric: str | None) -> None:

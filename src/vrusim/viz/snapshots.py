@@ -12,6 +12,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure, SubFigure
 
 from vrusim.metrics.outcome import outcome_of
+from vrusim.viz.literal_text import literal_texts
 from vrusim.viz.recording import Recording
 from vrusim.viz.scene import SceneArtists, legend_handles, view_window
 from vrusim.viz.style import recording_labels
@@ -58,7 +59,7 @@ def snapshot_figure(
     fig = Figure(figsize=snapshot_size_in(recordings, at_s, panel_width_in), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
     draw_snapshots(fig, recordings, at_s, labels)
-    return fig
+    return literal_texts(fig)
 
 
 def draw_snapshots(

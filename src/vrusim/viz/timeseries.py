@@ -16,6 +16,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from vrusim.viz import style
+from vrusim.viz.literal_text import literal_texts
 from vrusim.viz.recording import KEY_EVENT_LABELS, Recording
 from vrusim.viz.style import recording_labels
 
@@ -63,7 +64,7 @@ def timeseries_figure(
     fig = Figure(figsize=(width_in, 9.0 + 0.3 * len(recordings)), dpi=dpi, layout="constrained")
     FigureCanvasAgg(fig)
     draw_timeseries(fig, recordings, labels)
-    return fig
+    return literal_texts(fig)
 
 
 def draw_timeseries(
