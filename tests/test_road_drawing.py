@@ -203,6 +203,26 @@ def test_beyond_the_point_budget_the_import_keeps_the_layout_and_warns(monkeypat
     assert any("VRUSIM_LIMIT_ROAD_POINTS" in warning for warning in result.warnings)
 
 
+def test_the_sample_count_is_checked_before_any_border_is_sampled(tmp_path, monkeypatch):
+    """A 35 KB file with one 45 km road and 200 lanes a side sampled 180 million border points (2.9 GB, 39 s) before
+    the point budget was checked: now the count is checked first, and the import warns naming the road."""
+    lane = '<lane id="{}" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane>'
+    folder = tmp_path / "actions"
+    shutil.copytree(DATA.parent / "actions", folder)
+    road = (folder / "road.xodr").read_text()
+    for side, sign in (("left", 1), ("right", -1)):
+        lanes = "".join(lane.format(sign * n) for n in range(1, 201))
+        road = re.sub(rf"<{side}>.*</{side}>", f"<{side}>{lanes}</{side}>", road, flags=re.S)
+    road = road.replace('length="200.0"', 'length="45000"')
+    (folder / "road.xodr").write_text(road)
+    monkeypatch.setattr("vrusim.formats.xodr_drawing._RoadSampler.sample", lambda self: pytest.fail("sampled"))
+    result = import_xosc(folder / "vru_linear_time.xosc")
+    assert result.scenario.road.lines is None
+    (warning,) = [w for w in result.warnings if "VRUSIM_LIMIT_ROAD_SAMPLES" in w]
+    assert "road.xodr: line 4: " in warning and "<road> id '1' (45000 m, 400 lanes)" in warning, warning
+    assert "180,4" in warning
+
+
 def test_the_imported_yaml_holds_the_lines_and_loads_back(tmp_path):
     folder = tmp_path / "roads"
     shutil.copytree(DATA, folder)

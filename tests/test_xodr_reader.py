@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -454,8 +455,42 @@ ROAD = one_road("<line/>", 5.0)
          r"<connection> names road 'q', which does not exist"),
         (ROAD.replace("</OpenDRIVE>", '<road id="r"/></OpenDRIVE>'), r"<road> has no attribute"),
         (ROAD.replace('length="5.0">', 'length="-1">'), r"<geometry> attribute length: must be >= 0"),
+        # lengths are sampled: 1e12 was a MemoryError, 1e300 a ValueError, 1e6 m sampled 10 million points per border
+        (ROAD.replace('length="5.0" junction', 'length="1e12" junction'),
+         r"<road> attribute length: 1,000,000,000,000 exceeds the limit of 10,000,000,000 \(magnitude"),
+        (ROAD.replace('length="5.0">', 'length="1e300">'), r"<geometry> attribute length: 1e\+300 exceeds the limit"),
+        (ROAD.replace('length="5.0" junction', 'length="1e6" junction'),
+         r"<road> attribute length: 1,000,000 m exceeds the limit of 100,000 .*VRUSIM_LIMIT_LENGTH_M raises it"),
+        (ROAD.replace('length="5.0">', 'length="200000">'), r"<geometry> attribute length: 200,000 m exceeds"),
     ],
 )  # fmt: skip
 def test_malformed_or_unsupported_elements_are_user_errors(text, message):
     with pytest.raises(UserInputError, match=r"^test\.xodr: (line \d+: )?" + message):
         parse_xodr(text, "test.xodr")
+
+
+@pytest.mark.parametrize(
+    ("geometry", "element", "attribute"),
+    [
+        ('<arc curvature="1e308"/>', "arc", "curvature"),
+        ('<spiral curvStart="0" curvEnd="1e308"/>', "spiral", "curvEnd"),
+        ('<poly3 a="0" b="0" c="0" d="1e308"/>', "poly3", "d"),
+        (
+            '<paramPoly3 aU="0" bU="1" cU="0" dU="-1e308" aV="0" bV="0" cV="0" dV="0" pRange="arcLength"/>',
+            "paramPoly3",
+            "dU",
+        ),
+    ],
+)
+def test_a_huge_geometry_number_is_refused_at_its_attribute_without_warnings(tmp_path, geometry, element, attribute):
+    """1e308 spilled numpy RuntimeWarnings and was reported at derived fields (road.lines[0].points)."""
+    lanes = '<laneSection s="0"><center><lane id="0"/></center><right><lane id="-1" type="driving"><width sOffset="0" '
+    lanes += 'a="3.5" b="0" c="0" d="1e308"/></lane></right></laneSection>'
+    texts = {"geometry": one_road(geometry, 5.0), "width": one_road("<line/>", 5.0, lanes=lanes)}
+    texts["x"] = one_road("<line/>", 5.0, x="-1e308")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for tag, name, text in ((element, attribute, texts["geometry"]), ("width", "d", texts["width"]),
+                                ("geometry", "x", texts["x"])):  # fmt: skip
+            with pytest.raises(UserInputError, match=rf"^test\.xodr: line 1: <{tag}> attribute {name}: .*XML_NUMBER"):
+                parse_xodr(text, "test.xodr")

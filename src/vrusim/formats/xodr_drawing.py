@@ -213,6 +213,34 @@ class _RoadSampler:
             self.surfaces.append({"points": outline})
 
 
+def sample_count(road: Road) -> int:
+    """How many border points drawing `road` evaluates: each lane section's stations (`_stations`) x its borders
+    (every lane's outer border and the offset border), counted before anything is sampled."""
+    ends = [section.s_m for section in road.sections[1:]] + [road.length_m]
+    total = 0
+    for section, end_m in zip(road.sections, ends, strict=True):
+        start_m, end_m = max(0.0, min(section.s_m, road.length_m)), min(end_m, road.length_m)
+        if end_m - start_m > 1e-9:
+            marks = len(section.centre_marks) + sum(len(lane.marks) for lane in (*section.left, *section.right))
+            stations = max(2, math.ceil((end_m - start_m) / DENSE_SPACING_M - 1e-9) + 1) + marks
+            total += stations * (len(section.left) + len(section.right) + 1)
+    return total
+
+
+def sampling_excess(network: Network) -> str | None:
+    """Why drawing `network` would sample too many points (limit `road_samples`), naming its largest road; or None."""
+    counts = {road_id: sample_count(road) for road_id, road in network.roads.items()}
+    reason = excess("road_samples", sum(counts.values()))
+    if reason is None:
+        return None
+    road = network.roads[max(counts, key=counts.__getitem__)]
+    lanes = max(len(section.left) + len(section.right) for section in road.sections)
+    return (
+        f"{network.source or 'OpenDRIVE'}: line {road.line}: <road> id {road.id!r} ({road.length_m:g} m, {lanes} "
+        f"lanes), the largest of {len(counts)} road(s): {reason}"
+    )
+
+
 def road_drawing(network: Network) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
     """(lines, surfaces) of every road of `network`, as `road.lines` / `road.surfaces` mappings."""
     lines: list[dict[str, Any]] = []
@@ -226,7 +254,11 @@ def road_drawing(network: Network) -> tuple[list[dict[str, Any]], list[dict[str,
 
 
 def drawing_fields(network: Network) -> tuple[dict[str, Any], str | None]:
-    """The `road` fields `lines` and `surfaces` of `network`, or none and why (beyond the `road_points` budget)."""
+    """The `road` fields `lines` and `surfaces` of `network`, or none and why (beyond the `road_samples` budget,
+    checked before sampling, or the `road_points` budget)."""
+    reason = sampling_excess(network)
+    if reason is not None:
+        return {}, f"the drawn road is not kept: {reason}; figures draw the generated layout"
     lines, surfaces = road_drawing(network)
     count = sum(len(item["points"]) for item in (*lines, *surfaces))
     reason = excess("road_points", count)
