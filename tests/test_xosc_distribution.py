@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import time
 from pathlib import Path
 
 import pyarrow.parquet as pq
@@ -16,7 +17,7 @@ from hypothesis import strategies as st
 from cli_helpers import assert_user_error, invoke
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_distribution import read_distribution
-from vrusim.formats.xosc_expression import MAX_DEPTH, ExpressionError, evaluate, value_text
+from vrusim.formats.xosc_expression import MAX_DEPTH, ExpressionError, _tokens, evaluate, value_text
 from vrusim.formats.xosc_import import read_xosc, read_xosc_root
 
 DATA = Path(__file__).parent / "data" / "xosc" / "distribution"
@@ -95,6 +96,16 @@ def test_expression_errors(text: str, message: str) -> None:
 
 def test_nesting_up_to_the_limit_is_fine() -> None:
     assert evaluate("(" * MAX_DEPTH + "1" + ")" * MAX_DEPTH, {}) == 1.0
+
+
+def test_tokenizing_is_linear_in_the_text() -> None:
+    """Each token copied the rest of the text (`text[position:].isspace()`): a 1.88 MB `${1+1+...}` took minutes.
+    40,000 long numbers (2 MB) took seconds that way; now tens of milliseconds."""
+    text = "+".join(["1." + "0" * 48] * 40_000) + "  "
+    started = time.perf_counter()
+    tokens = _tokens(text)
+    assert time.perf_counter() - started < 1.0
+    assert len(tokens) == 80_000 and tokens[-1] == ("end", "")
 
 
 def test_value_text() -> None:
