@@ -4,11 +4,16 @@ import as the inline file does; parameter assignments reach the right field; bad
 from __future__ import annotations
 
 import shutil
+import time
 from pathlib import Path
 
 import pytest
 
 from cli_helpers import invoke
+from vrusim.errors import UserInputError
+from vrusim.formats.xml_file import Element
+from vrusim.formats.xosc_catalogs import _Directory, _read_directory
+from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_import import read_xosc
 from xosc_helpers import edited, refused
 
@@ -129,6 +134,24 @@ def test_a_catalog_file_linked_from_outside_the_directory_isrefused(copy, tmp_pa
     (copy.parent / "Catalogs" / "Pedestrians" / "pedestrians.xosc").unlink()
     (copy.parent / "Catalogs" / "Pedestrians" / "linked.xosc").symlink_to(outside)
     refused(copy, "<CatalogReference>", "linked.xosc", "outside the catalog directory")
+
+
+def test_reading_a_catalog_is_linear_in_its_entries(tmp_path):
+    """`names.count(name)` per entry took minutes for 60,000 entries; 15,000 took seconds, now a tenth of a second
+    with the XML parse; a duplicate name is still reported at its first entry."""
+    folder = tmp_path / "Vehicles"
+    folder.mkdir()
+    entries = "".join(f'<Vehicle name="v{i}"/>\n' for i in range(15_000))
+    catalog = folder / "cars.xosc"
+    catalog.write_text(f'<OpenSCENARIO>\n<Catalog name="Cars">\n{entries}</Catalog></OpenSCENARIO>')
+    directory = _Directory(folder, Element("Directory", {}, 1))
+    started = time.perf_counter()
+    found = _read_directory(XoscDocument("x.xosc"), directory)
+    assert time.perf_counter() - started < 1.0
+    assert len(found["Cars"].entries) == 15_000 and found["Cars"].entries["v14999"].line == 15_002
+    catalog.write_text(catalog.read_text().replace('"v7"', '"v9"'))
+    with pytest.raises(UserInputError, match=r"cars\.xosc: line 10: <Vehicle> name 'v9' is used twice"):
+        _read_directory(XoscDocument("x.xosc"), directory)
 
 
 def test_a_reference_without_catalog_locations_isrefused(copy):
