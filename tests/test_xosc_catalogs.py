@@ -190,3 +190,31 @@ def test_a_file_name_the_os_cannot_use_is_a_user_error(tmp_path, folder, name, o
     assert result.exit_code == 2, result.output
     message = " ".join(result.output.split())
     assert "Traceback" not in message and element in message and "cannot use" in message, message
+
+
+@pytest.mark.parametrize(
+    ("folder", "name", "old", "element"),
+    [
+        ("catalogs", "inline.xosc", 'filepath="road.xodr"', "<LogicFile> filepath"),
+        ("distribution", "cpna_10x3.xosc", 'filepath="cpna.xosc"', "<ScenarioFile> filepath"),
+    ],
+)
+@pytest.mark.parametrize("target", ["../outside/FILE", "ABSOLUTE", "/etc/passwd", "link"])
+def test_a_file_named_outside_the_folder_is_refused_before_it_is_read(tmp_path, folder, name, old, element, target):
+    """A `<LogicFile>` or `<ScenarioFile>` could name any file on disk (`/etc/passwd` was parsed, its parse error
+    telling that it exists); now confined to the folder of the file naming it, as catalog directories are."""
+    shutil.copytree(DATA.parent / folder, tmp_path / "case")
+    wanted = old.split('"')[1]
+    outside = tmp_path / "outside" / wanted
+    outside.parent.mkdir()
+    shutil.copy(tmp_path / "case" / wanted, outside)
+    (tmp_path / "case" / "link").symlink_to(outside)
+    value = {"../outside/FILE": f"../outside/{wanted}", "ABSOLUTE": str(outside)}.get(target, target)
+    path = edited(tmp_path / "case" / name, old, f'filepath="{value}"')
+    command = "sweep" if folder == "distribution" else "import"
+    result = invoke(command, str(path), "--out", str(tmp_path / "out.yaml" if command == "import" else tmp_path / "o"))
+    assert result.exit_code == 2, result.output
+    message = " ".join(result.output.split())
+    assert "Traceback" not in message and f"{element} '{value[:40]}" in message, message
+    assert "leads outside the folder of the" in message and "line " in message, message
+    assert not (tmp_path / "out.yaml").exists() and not (tmp_path / "o").exists()

@@ -81,9 +81,7 @@ class Catalogs:
             doc.children(location, {"Directory"})
             directory = doc.child(location, "Directory")
             name = doc.text(directory, "path")
-            path = doc.named_path(directory, "path", folder, name).resolve()
-            if Path(name).is_absolute() or not path.is_relative_to(folder):
-                raise doc.fail(directory, f"path {shown(name)} leads outside the folder of the .xosc; refused")
+            path = doc.confined_path(directory, "path", folder, name)
             if not path.is_dir():
                 raise doc.fail(directory, f"path {shown(name)} is not a directory next to the .xosc")
             catalogs.directories[location.tag] = _Directory(path, directory)

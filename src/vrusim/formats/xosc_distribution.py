@@ -210,7 +210,8 @@ def read_distribution(root: Element, path: Path) -> ParameterSets:
     doc.children(distribution, {"ScenarioFile", "Deterministic", "Stochastic"})
     scenario = doc.child(distribution, "ScenarioFile")
     name = doc.raw(scenario, "filepath")
-    scenario_file = doc.named_path(scenario, "filepath", path.parent, name)
+    doc.confined_path(scenario, "filepath", path.parent, name, "distribution file")
+    scenario_file = path.parent / name  # as written, for messages
     if not scenario_file.is_file() or scenario_file.resolve() == path.resolve():
         raise doc.fail(scenario, f"names {name[:60]!r}, which is not a scenario file next to the distribution file")
     body = [c for c in distribution.children if c.tag != "ScenarioFile"]

@@ -65,7 +65,8 @@ def _road_network(doc: XoscDocument, root: Element, path: Path) -> Network:
     if logic is None:
         raise doc.fail(network, "has no <LogicFile>: vrusim needs the OpenDRIVE road (.xodr)")
     name = doc.text(logic, "filepath")
-    road_file = doc.named_path(logic, "filepath", path.parent, name)
+    doc.confined_path(logic, "filepath", path.parent, name)
+    road_file = path.parent / name  # as written, for messages
     if not road_file.is_file():
         raise doc.fail(logic, f"names {shown(name)}, which is not a file next to the .xosc")
     return read_xodr(road_file)
