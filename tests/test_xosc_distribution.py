@@ -338,6 +338,32 @@ def _distribution(tmp_path: Path, body: str) -> Path:
             "rejects nearly every draw",
         ),
         ("<Deterministic/><Stochastic/>", "exactly one of"),
+        # an OverflowError (cannot convert float infinity to integer) before the count was checked
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1e-320"><Range lowerLimit="15" upperLimit="60"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"d\.xosc: line 2: <DistributionRange> values: inf variants exceeds the limit of 10,000,000",
+        ),
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1"><Range lowerLimit="-1e308" upperLimit="1e308"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"line 2: <Range> attribute lowerLimit: -1e\+308 exceeds the limit of 10,000,000,000",
+        ),
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1e-9"><Range lowerLimit="-1e10" upperLimit="1e10"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"<DistributionRange> values: 2\.0+2e\+19 variants exceeds",
+        ),
+        # numpy's OverflowError (high - low range exceeds valid bounds)
+        (
+            '<Stochastic numberOfTestRuns="3"><StochasticDistribution parameterName="A"><UniformDistribution>'
+            '<Range lowerLimit="-1e308" upperLimit="1e308"/></UniformDistribution></StochasticDistribution>'
+            "</Stochastic>",
+            r"line 2: <Range> attribute lowerLimit: -1e\+308 exceeds the limit",
+        ),
     ],
 )
 def test_distribution_errors(tmp_path: Path, body: str, message: str) -> None:

@@ -58,8 +58,10 @@ def _range_count(doc: XoscDocument, element: Element) -> tuple[float, float, int
     low, high = doc.number(limits, "lowerLimit"), doc.number(limits, "upperLimit")
     if step <= 0 or high < low:
         raise doc.fail(element, f"needs stepWidth > 0 and lowerLimit <= upperLimit (got {step:g}, {low:g}..{high:g})")
-    count = math.floor((high - low) / step * (1 + 1e-12) + 1e-9) + 1
-    return low, step, count
+    steps = (high - low) / step * (1 + 1e-12) + 1e-9  # inf for a tiny step: checked before it becomes an int
+    count = math.floor(steps) + 1 if math.isfinite(steps) else steps
+    check_limit("sweep_variants", count, f"{doc.source}: line {element.line}: <{element.tag}> values")
+    return low, step, int(count)
 
 
 def _range_text(low: float, step: float, index: int) -> str:
