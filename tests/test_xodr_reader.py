@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import warnings
 from pathlib import Path
 
@@ -494,3 +495,16 @@ def test_a_huge_geometry_number_is_refused_at_its_attribute_without_warnings(tmp
                                 ("geometry", "x", texts["x"])):  # fmt: skip
             with pytest.raises(UserInputError, match=rf"^test\.xodr: line 1: <{tag}> attribute {name}: .*XML_NUMBER"):
                 parse_xodr(text, "test.xodr")
+
+
+def test_the_usage_snippet_of_the_docs_runs(monkeypatch):
+    """docs/opendrive_import.md's example read a junction.xodr that is not in the repository, a station beyond its
+    road and a route through a road it does not have."""
+    root = Path(__file__).resolve().parents[1]
+    text = (root / "docs" / "opendrive_import.md").read_text()
+    code = re.search(r"```python\n(from vrusim\.formats\.xodr_reader.*?)```", text, re.S)
+    assert code is not None
+    monkeypatch.chdir(root)
+    names: dict = {}
+    exec(code.group(1), names)  # the repository's own documentation
+    assert names["x"].tolist() == [-50.0, -5.0] and names["route"].points[-1][1] < -40.0
