@@ -371,6 +371,18 @@ def test_distribution_errors(tmp_path: Path, body: str, message: str) -> None:
         _sets(_distribution(tmp_path, body))
 
 
+def test_more_sets_than_distribution_variants_are_refused_before_any_is_imported(tmp_path: Path, monkeypatch) -> None:
+    """numberOfTestRuns="2000000" ran for minutes towards tens of GB: every set is a whole scenario import (about
+    3 ms and 25 kB), far from the sweep_variants budget of a sweep spec; now refused at once."""
+    monkeypatch.setattr("vrusim.sweep.xosc_sweep.parse_root", lambda *args, **kwargs: pytest.fail("imported"))
+    (tmp_path / "cpna.xosc").write_text(CPNA.read_text())
+    path = tmp_path / "s.xosc"
+    path.write_text((DATA / "stochastic.xosc").read_text().replace('numberOfTestRuns="40"', 'numberOfTestRuns="20000"'))
+    result = invoke("sweep", path, "--dry-run", "--out", tmp_path / "o")
+    assert_user_error(result, "line 6: <Stochastic> numberOfTestRuns: 20,000 variants exceeds the limit of 10,000")
+    assert "VRUSIM_LIMIT_DISTRIBUTION_VARIANTS" in result.output and not (tmp_path / "o").exists()
+
+
 def test_a_trillion_sets_are_refused_before_any_is_made() -> None:
     with pytest.raises(UserInputError, match=r"sweep_variants|VRUSIM_LIMIT_SWEEP_VARIANTS") as error:
         _sets(DATA / "huge.xosc")

@@ -39,6 +39,9 @@ LIMITS: dict[str, Limit] = {
     "accel_mps2": Limit(10_000, "m/s^2", "an acceleration, a field ending in _mps2"),
     # work budgets, checked before the work starts
     "sweep_variants": Limit(10_000_000, "variants", "variants of one sweep (grid points x samples)"),
+    "distribution_variants": Limit(
+        10_000, "variants", "variants of an OpenSCENARIO parameter distribution, each a whole scenario import"
+    ),
     "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
     "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
     "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),

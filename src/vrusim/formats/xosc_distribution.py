@@ -12,7 +12,7 @@ Deterministic: each `DeterministicSingleParameterDistribution` (a `DistributionS
 Stochastic: N runs, each parameter drawn independently from a `UniformDistribution` (`Range`) or a
 `NormalDistribution` (expectedValue, variance; an optional `Range` truncates it) with numpy's PCG64 seeded by
 randomSeed (0 when absent) and the parameter's name. Other distributions are refused. The number of sets is
-checked against the `sweep_variants` limit before any is made.
+checked against the `sweep_variants` and `distribution_variants` limits before any is made.
 """
 
 from __future__ import annotations
@@ -115,6 +115,13 @@ class _Deterministic:
         return [{name: _range_text(low, step, i)} for i in range(count)]
 
 
+def _check_count(count: float, what: str) -> None:
+    """Refuse `count` parameter sets beyond the `sweep_variants` or the (smaller) `distribution_variants` limit:
+    each set becomes a whole scenario import, about 3 ms and 25 kB, before any is made."""
+    check_limit("sweep_variants", count, what)
+    check_limit("distribution_variants", count, what)
+
+
 def _empty(doc: XoscDocument, element: Element) -> int:
     raise doc.fail(element, "has no values")
 
@@ -122,9 +129,7 @@ def _empty(doc: XoscDocument, element: Element) -> int:
 def _deterministic(doc: XoscDocument, element: Element) -> tuple[tuple[str, ...], list[tuple[str, ...]]]:
     reader = _Deterministic(doc, element)
     sizes = reader.sizes()
-    check_limit(
-        "sweep_variants", math.prod(sizes), f"{doc.source}: {' x '.join(f'{n:,}' for n in sizes)} parameter sets"
-    )
+    _check_count(math.prod(sizes), f"{doc.source}: {' x '.join(f'{n:,}' for n in sizes)} parameter sets")
     dimensions = reader.dimensions()
     names: list[str] = []
     for dimension in dimensions:
@@ -182,7 +187,7 @@ def _stochastic(doc: XoscDocument, element: Element) -> tuple[tuple[str, ...], l
     runs = doc.number(element, "numberOfTestRuns")
     if not runs.is_integer() or runs < 1:
         raise doc.fail(element, f"attribute numberOfTestRuns: expected a whole number >= 1, got {runs:g}")
-    check_limit("sweep_variants", runs, f"{doc.source}: numberOfTestRuns")
+    _check_count(runs, f"{doc.source}: line {element.line}: <{element.tag}> numberOfTestRuns")
     seed = doc.number(element, "randomSeed", 0.0)
     if not seed.is_integer() or seed < 0:
         raise doc.fail(element, f"attribute randomSeed: expected a whole number >= 0, got {seed:g}")
