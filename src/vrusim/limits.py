@@ -46,7 +46,11 @@ LIMITS: dict[str, Limit] = {
     "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
     "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),
     "road_points": Limit(50_000, "points", "points of a scenario's drawn road (road.lines and road.surfaces)"),
-    "road_samples": Limit(10_000_000, "samples", "points of an OpenDRIVE network's lane borders sampled to draw it"),
+    "road_samples": Limit(
+        10_000_000,
+        "samples",
+        "points of an OpenDRIVE network sampled at once: to draw it or to project a position onto it",
+    ),
 }
 """Every limit by name (the environment variable is VRUSIM_LIMIT_ + the name in capitals)."""
 
