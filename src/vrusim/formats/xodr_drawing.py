@@ -15,6 +15,9 @@ Each line is evaluated every `DENSE_SPACING_M` along s (exact points of the curv
 Douglas-Peucker to within `SIMPLIFY_TOLERANCE_M`: every chord stays within 2 cm of the true curve (tolerance
 plus the dense chords' sagitta of at most 1.25 mm / radius in m), and a straight line keeps its two ends.
 Coordinates are rounded to 1 mm. Lengths in m.
+
+Before anything is sampled, the points to evaluate are counted (`sample_count`, limit `road_samples`); a point
+beyond `coordinate_m` is refused naming the `<geometry>` or `<lane>` that puts it there.
 """
 
 from __future__ import annotations
@@ -214,7 +217,9 @@ class _RoadSampler:
         right_borders = _side_borders(right, right_widths, offset, -1.0)
         borders = [*left_borders, *right_borders]
         opposite = left and right and _carriageway(left[0]) and _carriageway(right[0])
-        borders.append(_Border(offset, "centre" if opposite else "edge", section.centre_marks, ("lane", section.line)))
+        borders.append(
+            _Border(offset, "centre" if opposite else "edge", section.centre_marks, ("laneSection", section.line))
+        )
 
         def world(t: np.ndarray, part: slice | np.ndarray = slice(None)) -> np.ndarray:
             """Points [N, 2] at lateral offsets `t` of the stations `part`."""
