@@ -12,6 +12,7 @@ import pytest
 
 import vrusim
 from cli_helpers import assert_user_error, invoke
+from vrusim.errors import UserInputError
 
 openpyxl = pytest.importorskip("openpyxl")
 
@@ -65,9 +66,40 @@ def test_predictions_fill_the_official_template_with_the_simulated_colours(tmp_p
     assert words == {c["colour"] for c in cpna_json["assessment"]["cells"]}
 
 
+def test_predictions_may_go_into_the_out_folder_being_created(tmp_path, monkeypatch):
+    """`--out o --predictions o/p.xlsx` was refused (folder o does not exist) though ncap creates --out; and when
+    writing the predictions is refused, nothing is left behind."""
+    from vrusim.cli import ncap2026
+
+    runs: list = []
+    run_once = ncap2026.run_2026
+    monkeypatch.setattr(
+        ncap2026, "run_2026", lambda *args: runs[0] if runs else runs.append(run_once(*args)) or runs[0]
+    )
+    folder = tmp_path / "o"
+    result = invoke(
+        "ncap", "--scenario", "CPNA", "--planner", "aeb", "--out", folder, "--predictions", folder / "p.xlsx"
+    )
+    assert result.exit_code == 0, result.output
+    assert {p.name for p in folder.iterdir()} == {"p.xlsx", "results.csv", "results.parquet", "scorecard.png"}
+
+    def refuse(self, path):
+        raise UserInputError("refused")
+
+    monkeypatch.setattr("vrusim.ncap.rated2026.Rated2026.write_predictions", refuse)  # the run above, reused
+    other = tmp_path / "other"
+    result = invoke(
+        "ncap", "--scenario", "CPNA", "--planner", "aeb", "--out", other, "--predictions", other / "sub" / "p.xlsx"
+    )
+    assert_user_error(result, "refused")
+    assert not other.exists()
+
+
 @pytest.mark.parametrize(
     ("args", "names"),
     [
+        (["--out", "{tmp}/o", "--predictions", "{tmp}/o/p.csv"], ["--predictions", ".xlsx"]),
+        (["--predictions", "{tmp}/out/../missing/p.xlsx"], ["--predictions", "does not exist"]),
         (["--protocol", "2023", "--predictions", "{tmp}/p.xlsx"], ["--predictions", "--protocol 2026"]),
         (["--protocol", "2023", "--verify", "10"], ["--verify", "--protocol 2026"]),
         (["--verify", "-1"], ["--verify", "-1"]),

@@ -203,6 +203,58 @@ def test_beyond_the_point_budget_the_import_keeps_the_layout_and_warns(monkeypat
     assert any("VRUSIM_LIMIT_ROAD_POINTS" in warning for warning in result.warnings)
 
 
+def test_the_sample_count_is_checked_before_any_border_is_sampled(tmp_path, monkeypatch):
+    """A 35 KB file with one 45 km road and 200 lanes a side sampled 180 million border points (2.9 GB, 39 s) before
+    the point budget was checked: now the count is checked first, and the import warns naming the road."""
+    lane = '<lane id="{}" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane>'
+    folder = tmp_path / "actions"
+    shutil.copytree(DATA.parent / "actions", folder)
+    road = (folder / "road.xodr").read_text()
+    for side, sign in (("left", 1), ("right", -1)):
+        lanes = "".join(lane.format(sign * n) for n in range(1, 201))
+        road = re.sub(rf"<{side}>.*</{side}>", f"<{side}>{lanes}</{side}>", road, flags=re.S)
+    road = road.replace('length="200.0"', 'length="45000"')
+    (folder / "road.xodr").write_text(road)
+    monkeypatch.setattr("vrusim.formats.xodr_drawing._RoadSampler.sample", lambda self: pytest.fail("sampled"))
+    result = import_xosc(folder / "vru_linear_time.xosc")
+    assert result.scenario.road.lines is None
+    (warning,) = [w for w in result.warnings if "VRUSIM_LIMIT_ROAD_SAMPLES" in w]
+    assert "road.xodr: line 4: " in warning and "<road> id '1' (45000 m, 400 lanes)" in warning, warning
+    assert "180,4" in warning
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where"),
+    [
+        ("<line/>", '<paramPoly3 aU="0" bU="1" cU="0" dU="1e10" aV="0" bV="0" cV="0" dV="0" pRange="arcLength"/>',
+         "line 7: <geometry> of road '1': reaches"),
+        ("<line/>", '<poly3 a="0" b="0" c="0" d="1e10"/>', "line 7: <geometry> of road '1': reaches"),
+        ('c="-0.0" d="0.0" sOffset="0"', 'c="-0.0" d="1e10" sOffset="0"', "line 20: <lane> of road '1': its border"),
+        ('x="-100.0"', 'x="-1e10"', "line 7: <geometry> of road '1': reaches (-1e+10, 0) m at s = 0 m"),
+    ],
+)  # fmt: skip
+def test_a_road_drawn_beyond_the_coordinate_bound_names_its_element(tmp_path, old, new, where):
+    """Numbers within xml_number can still place a road 10^10 m away: the message named derived fields
+    (road.lines[0].points[1], road.length_m), now the geometry or lane of the .xodr."""
+    folder = tmp_path / "actions"
+    shutil.copytree(DATA.parent / "actions", folder)
+    edited(folder / "road.xodr", old, new)
+    message = refused(folder / "vru_linear_time.xosc", f"road.xodr: {where}", "VRUSIM_LIMIT_COORDINATE_M")
+    assert "road.lines" not in message and "road.length_m" not in message
+
+
+def test_a_road_ending_far_away_names_the_road_without_drawing(tmp_path):
+    """A distribution sweep draws no road: its road.length_m (twice the farthest road end) named the road instead."""
+    folder = tmp_path / "actions"
+    shutil.copytree(DATA.parent / "actions", folder)
+    edited(folder / "road.xodr", 'x="-100.0"', 'x="-1e9"')
+    from vrusim.formats.xosc_import import parse_root, read_xosc_root
+
+    match = r"road\.xodr: line 4: <road> id '1' ends 1e\+09 m from the origin.*VRUSIM_LIMIT_LENGTH_M"
+    with pytest.raises(UserInputError, match=match):
+        parse_root(*read_xosc_root(folder / "vru_linear_time.xosc"), drawing=False)
+
+
 def test_the_imported_yaml_holds_the_lines_and_loads_back(tmp_path):
     folder = tmp_path / "roads"
     shutil.copytree(DATA, folder)

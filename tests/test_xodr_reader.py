@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 import os
+import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -454,8 +456,68 @@ ROAD = one_road("<line/>", 5.0)
          r"<connection> names road 'q', which does not exist"),
         (ROAD.replace("</OpenDRIVE>", '<road id="r"/></OpenDRIVE>'), r"<road> has no attribute"),
         (ROAD.replace('length="5.0">', 'length="-1">'), r"<geometry> attribute length: must be >= 0"),
+        # lengths are sampled: 1e12 was a MemoryError, 1e300 a ValueError, 1e6 m sampled 10 million points per border
+        (ROAD.replace('length="5.0" junction', 'length="1e12" junction'),
+         r"<road> attribute length: 1,000,000,000,000 exceeds the limit of 10,000,000,000 \(magnitude"),
+        (ROAD.replace('length="5.0">', 'length="1e300">'), r"<geometry> attribute length: 1e\+300 exceeds the limit"),
+        (ROAD.replace('length="5.0" junction', 'length="1e6" junction'),
+         r"<road> attribute length: 1,000,000 m exceeds the limit of 100,000 .*VRUSIM_LIMIT_LENGTH_M raises it"),
+        (ROAD.replace('length="5.0">', 'length="200000">'), r"<geometry> attribute length: 200,000 m exceeds"),
     ],
 )  # fmt: skip
 def test_malformed_or_unsupported_elements_are_user_errors(text, message):
     with pytest.raises(UserInputError, match=r"^test\.xodr: (line \d+: )?" + message):
         parse_xodr(text, "test.xodr")
+
+
+@pytest.mark.parametrize(
+    ("geometry", "element", "attribute"),
+    [
+        ('<arc curvature="1e308"/>', "arc", "curvature"),
+        ('<spiral curvStart="0" curvEnd="1e308"/>', "spiral", "curvEnd"),
+        ('<poly3 a="0" b="0" c="0" d="1e308"/>', "poly3", "d"),
+        (
+            '<paramPoly3 aU="0" bU="1" cU="0" dU="-1e308" aV="0" bV="0" cV="0" dV="0" pRange="arcLength"/>',
+            "paramPoly3",
+            "dU",
+        ),
+    ],
+)
+def test_a_huge_geometry_number_is_refused_at_its_attribute_without_warnings(tmp_path, geometry, element, attribute):
+    """1e308 spilled numpy RuntimeWarnings and was reported at derived fields (road.lines[0].points)."""
+    lanes = '<laneSection s="0"><center><lane id="0"/></center><right><lane id="-1" type="driving"><width sOffset="0" '
+    lanes += 'a="3.5" b="0" c="0" d="1e308"/></lane></right></laneSection>'
+    texts = {"geometry": one_road(geometry, 5.0), "width": one_road("<line/>", 5.0, lanes=lanes)}
+    texts["x"] = one_road("<line/>", 5.0, x="-1e308")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for tag, name, text in ((element, attribute, texts["geometry"]), ("width", "d", texts["width"]),
+                                ("geometry", "x", texts["x"])):  # fmt: skip
+            with pytest.raises(UserInputError, match=rf"^test\.xodr: line 1: <{tag}> attribute {name}: .*XML_NUMBER"):
+                parse_xodr(text, "test.xodr")
+
+
+def test_the_usage_snippet_of_the_docs_runs(monkeypatch):
+    """docs/opendrive_import.md's example read a junction.xodr that is not in the repository, a station beyond its
+    road and a route through a road it does not have."""
+    root = Path(__file__).resolve().parents[1]
+    text = (root / "docs" / "opendrive_import.md").read_text()
+    code = re.search(r"```python\n(from vrusim\.formats\.xodr_reader.*?)```", text, re.S)
+    assert code is not None
+    monkeypatch.chdir(root)
+    names: dict = {}
+    exec(code.group(1), names)  # the repository's own documentation
+    assert names["x"].tolist() == [-50.0, -5.0] and names["route"].points[-1][1] < -40.0
+
+
+def test_projecting_onto_too_long_a_network_is_refused_before_sampling(monkeypatch):
+    """100 roads of 100 km took 3.3 s per projected position (a 0.5 m grid along every road), 2,000 a minute."""
+    road = (
+        '<road id="{i}" length="100000" junction="-1"><planView><geometry s="0" x="0" y="{i}" hdg="0" length="100000">'
+        '<line/></geometry></planView><lanes><laneSection s="0"><center><lane id="0"/></center><right><lane id="-1" '
+        'type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right></laneSection></lanes></road>'
+    )
+    network = parse_xodr("<OpenDRIVE>" + "".join(road.format(i=i) for i in range(60)) + "</OpenDRIVE>", "n.xodr")
+    monkeypatch.setattr("vrusim.formats.xodr_projection.nearest_station_m", lambda *args: pytest.fail("sampled"))
+    with pytest.raises(UserInputError, match=r"^n\.xodr: projecting a position onto its 60 roads .*: 12,000,060 "):
+        project(network, 10.0, -1.0)

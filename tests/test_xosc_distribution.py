@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import time
 from pathlib import Path
 
 import pyarrow.parquet as pq
@@ -16,7 +17,7 @@ from hypothesis import strategies as st
 from cli_helpers import assert_user_error, invoke
 from vrusim.errors import UserInputError
 from vrusim.formats.xosc_distribution import read_distribution
-from vrusim.formats.xosc_expression import MAX_DEPTH, ExpressionError, evaluate, value_text
+from vrusim.formats.xosc_expression import MAX_DEPTH, ExpressionError, _tokens, evaluate, value_text
 from vrusim.formats.xosc_import import read_xosc, read_xosc_root
 
 DATA = Path(__file__).parent / "data" / "xosc" / "distribution"
@@ -95,6 +96,16 @@ def test_expression_errors(text: str, message: str) -> None:
 
 def test_nesting_up_to_the_limit_is_fine() -> None:
     assert evaluate("(" * MAX_DEPTH + "1" + ")" * MAX_DEPTH, {}) == 1.0
+
+
+def test_tokenizing_is_linear_in_the_text() -> None:
+    """Each token copied the rest of the text (`text[position:].isspace()`): a 1.88 MB `${1+1+...}` took minutes.
+    40,000 long numbers (2 MB) took seconds that way; now tens of milliseconds."""
+    text = "+".join(["1." + "0" * 48] * 40_000) + "  "
+    started = time.perf_counter()
+    tokens = _tokens(text)
+    assert time.perf_counter() - started < 1.0
+    assert len(tokens) == 80_000 and tokens[-1] == ("end", "")
 
 
 def test_value_text() -> None:
@@ -327,11 +338,49 @@ def _distribution(tmp_path: Path, body: str) -> Path:
             "rejects nearly every draw",
         ),
         ("<Deterministic/><Stochastic/>", "exactly one of"),
+        # an OverflowError (cannot convert float infinity to integer) before the count was checked
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1e-320"><Range lowerLimit="15" upperLimit="60"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"d\.xosc: line 2: <DistributionRange> values: inf variants exceeds the limit of 10,000,000",
+        ),
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1"><Range lowerLimit="-1e308" upperLimit="1e308"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"line 2: <Range> attribute lowerLimit: -1e\+308 exceeds the limit of 10,000,000,000",
+        ),
+        (
+            '<Deterministic><DeterministicSingleParameterDistribution parameterName="A"><DistributionRange '
+            'stepWidth="1e-9"><Range lowerLimit="-1e10" upperLimit="1e10"/></DistributionRange>'
+            "</DeterministicSingleParameterDistribution></Deterministic>",
+            r"<DistributionRange> values: 2\.0+2e\+19 variants exceeds",
+        ),
+        # numpy's OverflowError (high - low range exceeds valid bounds)
+        (
+            '<Stochastic numberOfTestRuns="3"><StochasticDistribution parameterName="A"><UniformDistribution>'
+            '<Range lowerLimit="-1e308" upperLimit="1e308"/></UniformDistribution></StochasticDistribution>'
+            "</Stochastic>",
+            r"line 2: <Range> attribute lowerLimit: -1e\+308 exceeds the limit",
+        ),
     ],
 )
 def test_distribution_errors(tmp_path: Path, body: str, message: str) -> None:
     with pytest.raises(UserInputError, match=message):
         _sets(_distribution(tmp_path, body))
+
+
+def test_more_sets_than_distribution_variants_are_refused_before_any_is_imported(tmp_path: Path, monkeypatch) -> None:
+    """numberOfTestRuns="2000000" ran for minutes towards tens of GB: every set is a whole scenario import (about
+    3 ms and 25 kB), far from the sweep_variants budget of a sweep spec; now refused at once."""
+    monkeypatch.setattr("vrusim.sweep.xosc_sweep.parse_root", lambda *args, **kwargs: pytest.fail("imported"))
+    (tmp_path / "cpna.xosc").write_text(CPNA.read_text())
+    path = tmp_path / "s.xosc"
+    path.write_text((DATA / "stochastic.xosc").read_text().replace('numberOfTestRuns="40"', 'numberOfTestRuns="20000"'))
+    result = invoke("sweep", path, "--dry-run", "--out", tmp_path / "o")
+    assert_user_error(result, "line 6: <Stochastic> numberOfTestRuns: 20,000 variants exceeds the limit of 10,000")
+    assert "VRUSIM_LIMIT_DISTRIBUTION_VARIANTS" in result.output and not (tmp_path / "o").exists()
 
 
 def test_a_trillion_sets_are_refused_before_any_is_made() -> None:

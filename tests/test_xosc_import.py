@@ -142,6 +142,20 @@ def test_import_writes_a_yaml_that_loads_as_the_same_scenario(tmp_path):
     assert again.exit_code == 2 and "--force" in again.output
 
 
+@pytest.mark.parametrize("name", ["case.xosc", "sub/../case.xosc", "hard.xosc"])
+def test_import_refuses_to_write_over_its_source(tmp_path, name):
+    """`--out X.xosc --force` replaced the source .xosc by the YAML (exit 0)."""
+    export_openscenario(CASES[0], tmp_path, "case")
+    source = tmp_path / "case.xosc"
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "hard.xosc").hardlink_to(source)
+    before = source.read_bytes()
+    result = invoke("import", str(source), "--out", str(tmp_path / name), "--force")
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    assert "--out:" in result.output and "is the FILE.xosc being read" in " ".join(result.output.split())
+    assert source.read_bytes() == before
+
+
 def test_run_and_load_take_a_xosc(tmp_path):
     import vrusim
 

@@ -299,6 +299,36 @@ def test_timing_refusals(tmp_path, old, new, marker, words):
     refused_at(_edited(tmp_path, "vru_timing.xosc", old, new), marker, *words)
 
 
+LIMIT_WORDS = ("exceeds the limit of 10,000,000,000", "VRUSIM_LIMIT_XML_NUMBER")
+
+
+@pytest.mark.parametrize(
+    ("name", "old", "new", "marker", "words"),
+    [
+        ("vru_clothoid.xosc", 'curvature="0.0"', 'curvature="1e308"', "<Clothoid ", ("<Clothoid> attribute curvature",
+         *LIMIT_WORDS)),
+        ("vru_clothoid.xosc", 'curvaturePrime="0.02" length="10.0"', 'curvaturePrime="0.0" length="1e12"',
+         "<Clothoid ", ("<Clothoid> attribute length", *LIMIT_WORDS)),
+        ("vru_clothoid.xosc", 'length="10.0"', 'length="1e6"', "<Clothoid ",
+         ("<Clothoid> attribute length: 1,000,000 m exceeds the limit of 100,000", "VRUSIM_LIMIT_LENGTH_M")),
+        ("vru_clothoid_spline.xosc", 'curvatureEnd="0.0" length="10.0"', 'curvatureEnd="0.0" length="99995"',
+         'curvatureEnd="0.0"', ("<ClothoidSplineSegment> attribute length (with the segments before it): 100,005 m",
+                                "VRUSIM_LIMIT_LENGTH_M")),
+        ("vru_timing.xosc", 'scale="2.0"', 'scale="1e308"', "<Timing", ("<Timing> attribute scale", *LIMIT_WORDS)),
+        ("vru_timing.xosc", 'time="2.5"', 'time="1e308"', 'time="1e308"', ("<Vertex> attribute time", *LIMIT_WORDS)),
+        ("vru_timing.xosc", 'x="3.0" y="-3.0" h="0.0"', 'x="0.0" y="-6.0" h="0.0"', 'time="2.5"',
+         ("<Vertex> ends where the trajectory starts",)),
+    ],
+)  # fmt: skip
+def test_huge_numbers_and_lengths_are_refused_at_their_attribute(tmp_path, name, old, new, marker, words):
+    """A clothoid 1e12 m long allocated 36 TiB of samples (MemoryError), curvature 1e308 was a math domain error,
+    a time or time scale of 1e308 (or a timed trajectory standing still) a ZeroDivisionError."""
+    path = _edited(tmp_path, name, old, new)
+    if name == "vru_timing.xosc" and 'y="-6.0" h="0.0"' in new:
+        edited(path, 'x="0.0" y="-3.0"', 'x="0.0" y="-6.0"')
+    refused_at(path, marker, *words)
+
+
 def test_a_timed_vru_with_speed_events_isrefused_at(tmp_path):
     path = _copy(tmp_path, "vru_timing.xosc")
     text = path.read_text()

@@ -285,6 +285,13 @@ REFUSALS = [
      'entityRef="nobody"', ["<LongitudinalDistanceAction>", "names no entity"]),
     ("longitudinal_distance.xosc", [_LATER_PLACEMENT], 'distance="$Gap"',
      ["<LongitudinalDistanceAction>", "simulation time 0"]),
+    # 1e308 was a math domain error (the VRU's heading) or a ZeroDivisionError (its box centre): now the number bound
+    *((name, [(old, new)], new, [f"<{tag}> attribute {attribute}", "VRUSIM_LIMIT_XML_NUMBER"])
+      for name in ("sync_arrival_steady_distance.xosc", "sync_relative_steady_time.xosc",
+                   "sync_final_speed_route_start.xosc")
+      for old, new, tag, attribute in (
+          ('y="-6.14" h="1.570796327"', 'y="-6.14" h="1e308"', "WorldPosition", "h"),
+          ('<Center x="0.0" y="0.0" z="0.9"/>', '<Center x="1e308" y="0.0" z="0.9"/>', "Center", "x"))),
 ]  # fmt: skip
 
 

@@ -31,6 +31,7 @@ LIMITS: dict[str, Limit] = {
     "yaml_nodes": Limit(200_000, "nodes", "values in a YAML file, counting every use of an alias (*anchor)"),
     "number_chars": Limit(64, "characters", "length of one number in a YAML file"),
     "list_items": Limit(100_000, "items", "items of one list in a YAML file"),
+    "xml_number": Limit(1e10, "", "magnitude of a number in an OpenSCENARIO or OpenDRIVE attribute"),
     # physical bounds on scenario fields (vrusim.scenario.bounds), by the unit in the field's name
     "coordinate_m": Limit(100_000, "m", "|x| or |y| of a position, a field x_m or y_m"),
     "length_m": Limit(100_000, "m", "a length or distance, a field ending in _m, or a VRU path's total length"),
@@ -38,6 +39,9 @@ LIMITS: dict[str, Limit] = {
     "accel_mps2": Limit(10_000, "m/s^2", "an acceleration, a field ending in _mps2"),
     # work budgets, checked before the work starts
     "sweep_variants": Limit(10_000_000, "variants", "variants of one sweep (grid points x samples)"),
+    "distribution_variants": Limit(
+        10_000, "variants", "variants of an OpenSCENARIO parameter distribution, each a whole scenario import"
+    ),
     "compare_runs": Limit(100_000, "runs", "runs of one comparison (planners x V2X settings x seeds)"),
     "batch_variant_steps": Limit(10_000_000_000, "variant-steps", "variants x time steps of one batch run"),
     "trace_bytes": Limit(2_000_000_000, "bytes", "estimated memory of a run's trace (--trace, trace=True)"),
@@ -47,6 +51,11 @@ LIMITS: dict[str, Limit] = {
         2_000_000_000, "bytes", "memory of one batch's sensor latency buffer and V2X message queues"
     ),
     "road_points": Limit(50_000, "points", "points of a scenario's drawn road (road.lines and road.surfaces)"),
+    "road_samples": Limit(
+        10_000_000,
+        "samples",
+        "points of an OpenDRIVE network sampled at once: to draw it or to project a position onto it",
+    ),
 }
 """Every limit by name (the environment variable is VRUSIM_LIMIT_ + the name in capitals)."""
 
@@ -126,10 +135,8 @@ def excess(name: str, value: float) -> str | None:
     if not abs(value) > bound:
         return None
     entry = LIMITS[name]
-    return (
-        f"{amount(value)} {entry.unit} exceeds the limit of {amount(bound)} ({entry.bounds}; "
-        f"{env_name(name)} raises it)"
-    )
+    unit = f" {entry.unit}" if entry.unit else ""
+    return f"{amount(value)}{unit} exceeds the limit of {amount(bound)} ({entry.bounds}; {env_name(name)} raises it)"
 
 
 def check_limit(name: str, value: float, what: str) -> None:

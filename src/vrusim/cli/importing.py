@@ -16,7 +16,7 @@ from rich.markup import escape
 from vrusim.cli.options import JsonOption, LenientOption, file_option
 from vrusim.cli.output import console, print_json, user_errors
 from vrusim.errors import UserInputError
-from vrusim.io.paths import check_output_file
+from vrusim.io.paths import check_not_input, check_output_file
 from vrusim.version import __version__
 
 if TYPE_CHECKING:
@@ -57,6 +57,7 @@ def import_command(
 
     with user_errors():
         check_output_file(out, "--out")
+        check_not_input(out, source, "--out", "FILE.xosc")
         if out.exists() and not force:
             raise UserInputError(f"--out: {out} exists (--force replaces it)")
         scenario = imported_scenario(source, lenient)

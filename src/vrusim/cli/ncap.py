@@ -174,7 +174,7 @@ def ncap_command(
         chosen = one_planner(planner, "ncap") or "fsm"
         book = edition(protocol)
         tests = select(scenario or [], night=night, protocol=book.name)
-        options = check_2026_options(book.name, predictions, verify, seed)
+        options = check_2026_options(book.name, predictions, verify, seed, out)
         if out is not None:
             _check_out(out, force)
         check_report_option(report)

@@ -33,9 +33,12 @@ class Options2026:
     seed: int
 
 
-def check_2026_options(protocol: str, predictions: Path | None, verify: int, seed: int | None) -> Options2026:
+def check_2026_options(
+    protocol: str, predictions: Path | None, verify: int, seed: int | None, out: Path | None = None
+) -> Options2026:
     """Refuse, before any work: 2026-only options with another edition, a bad draw count, a predictions path
-    that cannot be written, or a missing calculator extra."""
+    that cannot be written (its folder may be inside the --out folder `out`, created when it is written), or a
+    missing calculator extra."""
     if protocol != "2026":
         for option, given in (("--predictions", predictions is not None), ("--verify", verify != 0)):
             if given:
@@ -44,17 +47,30 @@ def check_2026_options(protocol: str, predictions: Path | None, verify: int, see
         raise UserInputError(f"--verify: expected a number of draws from 0 to 100000, got {verify}")
     if predictions is not None:
         from vrusim.extras import extra
-        from vrusim.io.paths import check_output_file
-        from vrusim.viz.figure_io import check_output_path
 
-        check_output_file(predictions, "--predictions")
-        try:
-            check_output_path(predictions, PREDICTION_SUFFIXES, "predictions file")
-        except UserInputError as error:
-            raise UserInputError(f"--predictions: {error}") from None
+        _check_predictions_file(predictions, out)
         with extra("ncap2026"):
             import euroncap_rating_2026  # noqa: F401
     return Options2026(predictions, verify, seed or 0)
+
+
+def _check_predictions_file(predictions: Path, out: Path | None) -> None:
+    """`--predictions` can be written: in an existing folder, or in a missing one inside the --out folder (which
+    `vrusim ncap` creates; it is checked by --out)."""
+    from vrusim.io.paths import check_name, check_output_file, check_output_folder, shown
+
+    if predictions.suffix.lower() not in PREDICTION_SUFFIXES:
+        found = predictions.suffix or "(no suffix)"
+        raise UserInputError(
+            f"--predictions: {shown(predictions)}: unknown predictions file type {found!r}; use "
+            f"{', '.join(PREDICTION_SUFFIXES)}"
+        )
+    folder = check_name(predictions, "--predictions").parent
+    inside_out = out is not None and folder.resolve().is_relative_to(out.resolve())
+    if inside_out and not folder.exists():
+        check_output_folder(folder, "--predictions")
+        return
+    check_output_file(predictions, "--predictions")
 
 
 def run_2026(tests: list[NcapTest], planner: str, v2x: bool) -> tuple[Rated2026, float]:
@@ -71,11 +87,12 @@ def write_2026_outputs(
 ) -> list[Path]:
     """results.csv / .parquet, scorecard.png (and verification.json) in `folder`, all or none; the predictions
     file. Returns what was written."""
-    from vrusim.io.paths import for_option
+    from vrusim.io.paths import for_option, new_folder
 
     written: list[Path] = []
     if predictions is not None:  # first: it can refuse an assessment, the folder's files cannot
-        with for_option("--predictions"):
+        # its folder, when missing, is inside --out (`check_2026_options`): created, and removed again if refused
+        with new_folder(predictions.parent, "--predictions"), for_option("--predictions"):
             written.append(rated.write_predictions(predictions))
         from vrusim.ncap.predictions import unpredicted_scenarios
 

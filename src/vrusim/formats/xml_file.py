@@ -16,7 +16,7 @@ from pathlib import Path
 from xml.parsers import expat
 
 from vrusim.errors import UserInputError
-from vrusim.limits import check_limit
+from vrusim.limits import check_limit, excess
 from vrusim.scenario.yaml_file import read_checked_text
 
 _SHOWN_CHARS = 40
@@ -98,8 +98,8 @@ def read_xml_file(path: Path, kind: str) -> Element:
 def attribute_number(
     fail: Callable[[Element, str], UserInputError], source: str, element: Element, name: str, text: str
 ) -> float:
-    """The finite number `text` of attribute `name` of `element` in file `source`; otherwise `fail(element,
-    reason)` is raised (the text no longer than `number_chars` either)."""
+    """The finite number `text` of attribute `name` of `element` in file `source`, at most `xml_number` in
+    magnitude; otherwise `fail(element, reason)` is raised (the text no longer than `number_chars` either)."""
     check_limit("number_chars", len(text), f"{source}: line {element.line}: <{element.tag}> {name}")
     try:
         value = float(text)
@@ -107,4 +107,7 @@ def attribute_number(
         raise fail(element, f"attribute {name}: expected a number, got {shown(text)}") from None
     if not math.isfinite(value):
         raise fail(element, f"attribute {name}: expected a finite number, got {shown(text)}")
+    reason = excess("xml_number", value)
+    if reason is not None:
+        raise fail(element, f"attribute {name}: {reason}")
     return value

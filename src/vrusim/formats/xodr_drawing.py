@@ -15,6 +15,9 @@ Each line is evaluated every `DENSE_SPACING_M` along s (exact points of the curv
 Douglas-Peucker to within `SIMPLIFY_TOLERANCE_M`: every chord stays within 2 cm of the true curve (tolerance
 plus the dense chords' sagitta of at most 1.25 mm / radius in m), and a straight line keeps its two ends.
 Coordinates are rounded to 1 mm. Lengths in m.
+
+Before anything is sampled, the points to evaluate are counted (`sample_count`, limit `road_samples`); a point
+beyond `coordinate_m` is refused naming the `<geometry>` or `<lane>` that puts it there.
 """
 
 from __future__ import annotations
@@ -25,10 +28,11 @@ from typing import Any
 
 import numpy as np
 
+from vrusim.errors import UserInputError
 from vrusim.formats.xodr_geometry import reference_poses
 from vrusim.formats.xodr_lanes import cubic_at, lane_offset_m
 from vrusim.formats.xodr_model import Lane, LaneSection, Network, Road, RoadMark
-from vrusim.limits import excess
+from vrusim.limits import LIMITS, amount, env_name, excess, limit
 
 DENSE_SPACING_M = 0.1
 """Spacing of the exact points along s before thinning, m."""
@@ -68,6 +72,8 @@ class _Border:
     t_m: np.ndarray
     kind: str
     marks: tuple[RoadMark, ...]
+    element: tuple[str, int] = ("laneSection", 0)
+    """The element that places it, for messages: (tag, line)."""
 
 
 def simplified(points: np.ndarray, tolerance_m: float = SIMPLIFY_TOLERANCE_M) -> np.ndarray:
@@ -141,7 +147,7 @@ def _side_borders(lanes: list[Lane], widths: list[np.ndarray], offset: np.ndarra
         t = t + sign * width
         beyond = lanes[index + 1] if index + 1 < len(lanes) else None
         inner_lane = beyond is not None and _carriageway(lane) and _carriageway(beyond)
-        borders.append(_Border(t, "lane" if inner_lane else "edge", lane.marks))
+        borders.append(_Border(t, "lane" if inner_lane else "edge", lane.marks, ("lane", lane.line)))
     return borders
 
 
@@ -166,8 +172,8 @@ def _stations(start_m: float, end_m: float, breaks: list[float]) -> np.ndarray:
 class _RoadSampler:
     """The lines and surfaces of one road."""
 
-    def __init__(self, road: Road) -> None:
-        self.road = road
+    def __init__(self, road: Road, source: str = "OpenDRIVE") -> None:
+        self.road, self.source = road, source
         self.lines: list[dict[str, Any]] = []
         self.surfaces: list[dict[str, Any]] = []
 
@@ -180,10 +186,28 @@ class _RoadSampler:
             if end_m - start_m > 1e-9:
                 self.section(section, start_m, end_m)
 
+    def check_reach(self, points: np.ndarray, s_m: np.ndarray, element: tuple[str, int] | None) -> None:
+        """Refuse points beyond the `coordinate_m` limit (or not finite), naming the element that puts them there:
+        `element` (tag, line), or the geometry of the reference line at that station."""
+        bound = limit("coordinate_m")
+        far = np.flatnonzero(~(np.abs(points) <= bound).all(axis=1))
+        if not far.size:
+            return
+        index = int(far[0])
+        tag, line = element if element is not None else _geometry_at(self.road, float(s_m[index]))
+        x, y = points[index]
+        what = "" if element is None else "its border "
+        raise UserInputError(
+            f"{self.source}: line {line}: <{tag}> of road {self.road.id!r}: {what}reaches ({x:.6g}, {y:.6g}) m at "
+            f"s = {s_m[index]:g} m, beyond the limit of {amount(bound)} m ({LIMITS['coordinate_m'].bounds}; "
+            f"{env_name('coordinate_m')} raises it)"
+        )
+
     def section(self, section: LaneSection, start_m: float, end_m: float) -> None:
         marks = [*section.centre_marks, *(m for lane in (*section.left, *section.right) for m in lane.marks)]
         s = _stations(start_m, end_m, [section.s_m + mark.s_offset_m for mark in marks])
         x_ref, y_ref, heading = reference_poses(self.road, s)
+        self.check_reach(np.column_stack([x_ref, y_ref]), s, None)
         offset = lane_offset_m(self.road, s)
         left, left_widths = _wide_lanes(section.left, s, section.s_m)
         right, right_widths = _wide_lanes(section.right, s, section.s_m)
@@ -193,7 +217,9 @@ class _RoadSampler:
         right_borders = _side_borders(right, right_widths, offset, -1.0)
         borders = [*left_borders, *right_borders]
         opposite = left and right and _carriageway(left[0]) and _carriageway(right[0])
-        borders.append(_Border(offset, "centre" if opposite else "edge", section.centre_marks))
+        borders.append(
+            _Border(offset, "centre" if opposite else "edge", section.centre_marks, ("laneSection", section.line))
+        )
 
         def world(t: np.ndarray, part: slice | np.ndarray = slice(None)) -> np.ndarray:
             """Points [N, 2] at lateral offsets `t` of the stations `part`."""
@@ -201,6 +227,7 @@ class _RoadSampler:
             return np.column_stack([x - t[part] * np.sin(h), y + t[part] * np.cos(h)])
 
         for border in borders:
+            self.check_reach(world(border.t_m), s, border.element)
             for lo, hi, style in _mark_spans(border.marks, border.kind, start_m, end_m):
                 part = (s >= lo - 1e-9) & (s <= hi + 1e-9)
                 points = _rounded(simplified(world(border.t_m, part)))
@@ -213,12 +240,47 @@ class _RoadSampler:
             self.surfaces.append({"points": outline})
 
 
+def sample_count(road: Road) -> int:
+    """How many border points drawing `road` evaluates: each lane section's stations (`_stations`) x its borders
+    (every lane's outer border and the offset border), counted before anything is sampled."""
+    ends = [section.s_m for section in road.sections[1:]] + [road.length_m]
+    total = 0
+    for section, end_m in zip(road.sections, ends, strict=True):
+        start_m, end_m = max(0.0, min(section.s_m, road.length_m)), min(end_m, road.length_m)
+        if end_m - start_m > 1e-9:
+            marks = len(section.centre_marks) + sum(len(lane.marks) for lane in (*section.left, *section.right))
+            stations = max(2, math.ceil((end_m - start_m) / DENSE_SPACING_M - 1e-9) + 1) + marks
+            total += stations * (len(section.left) + len(section.right) + 1)
+    return total
+
+
+def sampling_excess(network: Network) -> str | None:
+    """Why drawing `network` would sample too many points (limit `road_samples`), naming its largest road; or None."""
+    counts = {road_id: sample_count(road) for road_id, road in network.roads.items()}
+    reason = excess("road_samples", sum(counts.values()))
+    if reason is None:
+        return None
+    road = network.roads[max(counts, key=counts.__getitem__)]
+    lanes = max(len(section.left) + len(section.right) for section in road.sections)
+    return (
+        f"{network.source or 'OpenDRIVE'}: line {road.line}: <road> id {road.id!r} ({road.length_m:g} m, {lanes} "
+        f"lanes), the largest of {len(counts)} road(s): {reason}"
+    )
+
+
+def _geometry_at(road: Road, s_m: float) -> tuple[str, int]:
+    """(tag, line) of the plan-view geometry that holds station `s_m`."""
+    starts = [geometry.s_m for geometry in road.geometries]
+    geometry = road.geometries[max(0, int(np.searchsorted(starts, s_m, side="right")) - 1)]
+    return "geometry", geometry.line
+
+
 def road_drawing(network: Network) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
     """(lines, surfaces) of every road of `network`, as `road.lines` / `road.surfaces` mappings."""
     lines: list[dict[str, Any]] = []
     surfaces: list[dict[str, Any]] = []
     for road in network.roads.values():
-        sampler = _RoadSampler(road)
+        sampler = _RoadSampler(road, network.source or "OpenDRIVE")
         sampler.sample()
         lines += sampler.lines
         surfaces += sampler.surfaces
@@ -226,7 +288,11 @@ def road_drawing(network: Network) -> tuple[list[dict[str, Any]], list[dict[str,
 
 
 def drawing_fields(network: Network) -> tuple[dict[str, Any], str | None]:
-    """The `road` fields `lines` and `surfaces` of `network`, or none and why (beyond the `road_points` budget)."""
+    """The `road` fields `lines` and `surfaces` of `network`, or none and why (beyond the `road_samples` budget,
+    checked before sampling, or the `road_points` budget)."""
+    reason = sampling_excess(network)
+    if reason is not None:
+        return {}, f"the drawn road is not kept: {reason}; figures draw the generated layout"
     lines, surfaces = road_drawing(network)
     count = sum(len(item["points"]) for item in (*lines, *surfaces))
     reason = excess("road_points", count)

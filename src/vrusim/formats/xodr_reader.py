@@ -116,11 +116,17 @@ class _Reader:
         p_range = self.choice(kind, "pRange", ("arcLength", "normalized"), "normalized")
         return ParamPoly3(u, v, p_range == "normalized")  # type: ignore[arg-type]
 
+    def length(self, element: Element) -> float:
+        """A `length` attribute: >= 0 and within the `length_m` limit (roads are sampled along it)."""
+        length = self.number(element, "length")
+        if length < 0:
+            raise self.fail(element, f"attribute length: must be >= 0, got {length:g}")
+        check_limit("length_m", length, f"{self.source}: line {element.line}: <{element.tag}> attribute length")
+        return length
+
     def geometry(self, element: Element) -> Geometry:
-        values = [self.number(element, name) for name in ("s", "x", "y", "hdg", "length")]
-        if values[4] < 0:
-            raise self.fail(element, f"attribute length: must be >= 0, got {values[4]:g}")
-        return Geometry(*values, shape=self.shape(element), line=element.line)
+        values = [self.number(element, name) for name in ("s", "x", "y", "hdg")]
+        return Geometry(*values, self.length(element), shape=self.shape(element), line=element.line)
 
     def link(self, element: Element | None) -> Link | None:
         if element is None:
@@ -182,9 +188,7 @@ class _Reader:
         )
 
     def road(self, element: Element) -> Road:
-        length = self.number(element, "length")
-        if length < 0:
-            raise self.fail(element, f"attribute length: must be >= 0, got {length:g}")
+        length = self.length(element)
         plan = self.only(element, "planView")
         geometries = tuple(self.geometry(child) for child in plan.all("geometry"))
         if not geometries:

@@ -15,6 +15,7 @@ assignment to a parameter the entry does not declare is an error.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -43,11 +44,20 @@ class CatalogEntry:
     element: Element
 
 
+@dataclass(frozen=True)
+class _Catalog:
+    """One `<Catalog>`: its file, its element and its entries by name."""
+
+    path: Path
+    element: Element
+    entries: dict[str, Element]
+
+
 @dataclass
 class _Directory:
     path: Path
     element: Element
-    catalogs: dict[str, tuple[Path, Element]] | None = None
+    catalogs: dict[str, _Catalog] | None = None
 
 
 @dataclass
@@ -71,9 +81,7 @@ class Catalogs:
             doc.children(location, {"Directory"})
             directory = doc.child(location, "Directory")
             name = doc.text(directory, "path")
-            path = doc.named_path(directory, "path", folder, name).resolve()
-            if Path(name).is_absolute() or not path.is_relative_to(folder):
-                raise doc.fail(directory, f"path {shown(name)} leads outside the folder of the .xosc; refused")
+            path = doc.confined_path(directory, "path", folder, name)
             if not path.is_dir():
                 raise doc.fail(directory, f"path {shown(name)} is not a directory next to the .xosc")
             catalogs.directories[location.tag] = _Directory(path, directory)
@@ -88,11 +96,9 @@ class Catalogs:
         if hit is None:
             where = ", ".join(f"<{location}>" for location in locations)
             raise doc.fail(reference, f"catalogName {shown(catalog_name)}: no such catalog in {where}")
-        path, catalog = hit
-        entries = [child for child in catalog.children if child.attrib.get("name") == entry_name]
-        if not entries:
+        path, element = hit.path, hit.entries.get(entry_name)
+        if element is None:
             raise doc.fail(reference, f"entryName {shown(entry_name)}: catalog {shown(catalog_name)} has no such entry")
-        element = entries[0]
         if element.tag not in tags:
             expected = ", ".join(f"<{tag}>" for tag in sorted(tags))
             raise doc.fail(reference, f"entry {shown(entry_name)} is a <{element.tag}> ({path}), expected {expected}")
@@ -103,7 +109,7 @@ class Catalogs:
         children = [child for child in element.children if child.tag != "ParameterDeclarations"]
         return CatalogEntry(scope, Element(element.tag, element.attrib, element.line, children))
 
-    def _catalogs(self, doc: XoscDocument, reference: Element, location: str) -> dict[str, tuple[Path, Element]]:
+    def _catalogs(self, doc: XoscDocument, reference: Element, location: str) -> dict[str, _Catalog]:
         directory = self.directories.get(location)
         if directory is None:
             return {}
@@ -115,12 +121,12 @@ class Catalogs:
         return directory.catalogs
 
 
-def _read_directory(doc: XoscDocument, directory: _Directory) -> dict[str, tuple[Path, Element]]:
-    """Catalog name -> (file, `<Catalog>`) of the catalog files in `directory`."""
+def _read_directory(doc: XoscDocument, directory: _Directory) -> dict[str, _Catalog]:
+    """Catalog name -> catalog of the catalog files in `directory` (entries indexed by name: linear in them)."""
     files = sorted(p for p in directory.path.iterdir() if p.suffix.lower() == ".xosc" and not p.is_dir())
     if len(files) > MAX_FILES:
         raise doc.fail(directory.element, f"has {len(files)} .xosc files; at most {MAX_FILES} are read")
-    found: dict[str, tuple[Path, Element]] = {}
+    found: dict[str, _Catalog] = {}
     for path in files:
         if not path.resolve().is_relative_to(directory.path):
             raise UserInputError(f"{path}: leads outside the catalog directory; refused")
@@ -130,14 +136,21 @@ def _read_directory(doc: XoscDocument, directory: _Directory) -> dict[str, tuple
             continue
         name = doc.raw(catalog, "name")
         if name in found:
-            raise UserInputError(f"{path}: line {catalog.line}: catalog {shown(name)} is also in {found[name][0]}")
-        names = [entry.attrib.get("name") for entry in catalog.children]
-        for entry, entry_name in zip(catalog.children, names, strict=True):
-            if entry_name is None or names.count(entry_name) > 1:
-                problem = "has no name" if entry_name is None else f"name {shown(entry_name)} is used twice"
-                raise UserInputError(f"{path}: line {entry.line}: <{entry.tag}> {problem}")
-        found[name] = (path, catalog)
+            raise UserInputError(f"{path}: line {catalog.line}: catalog {shown(name)} is also in {found[name].path}")
+        found[name] = _Catalog(path, catalog, _entries(path, catalog))
     return found
+
+
+def _entries(path: Path, catalog: Element) -> dict[str, Element]:
+    """The entries of `catalog` (read from `path`) by name; one without a name, or a name used twice (reported at
+    its first entry), is an error."""
+    counts = Counter(entry.attrib.get("name") for entry in catalog.children)
+    for entry in catalog.children:
+        entry_name = entry.attrib.get("name")
+        if entry_name is None or counts[entry_name] > 1:
+            problem = "has no name" if entry_name is None else f"name {shown(entry_name)} is used twice"
+            raise UserInputError(f"{path}: line {entry.line}: <{entry.tag}> {problem}")
+    return {entry.attrib["name"]: entry for entry in catalog.children}
 
 
 def _assignments(doc: XoscDocument, reference: Element, declarations: Element | None, entry: str) -> dict[str, str]:

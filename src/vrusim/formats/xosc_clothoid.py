@@ -26,6 +26,7 @@ from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import OVERRUN_M, SampledShape, WorldPose
 from vrusim.formats.xosc_positions import read_position
 from vrusim.geometry.paths import SAMPLE_SPACING_M, Clothoid, PathSpec, path_poses
+from vrusim.limits import check_limit
 
 SPACING_M = SAMPLE_SPACING_M
 """Largest distance along the curve between two vertices, m."""
@@ -53,10 +54,14 @@ def _optional_number(doc: XoscDocument, element: Element, name: str) -> float | 
     return doc.number(element, name) if name in element.attrib else None
 
 
-def _length(doc: XoscDocument, element: Element) -> float:
+def _length(doc: XoscDocument, element: Element, before_m: float = 0.0) -> float:
+    """The `length` attribute (> 0); with the `before_m` of the pieces before it, within the `length_m` limit of a
+    path's length (checked before the curve is sampled every `SPACING_M`)."""
     length = doc.number(element, "length")
     if not length > 0:
         raise doc.fail(element, f"attribute length: must be > 0, got {length:g}")
+    what = "attribute length" if before_m == 0 else "attribute length (with the segments before it)"
+    check_limit("length_m", before_m + length, f"{doc.source}: line {element.line}: <{element.tag}> {what}")
     return length
 
 
@@ -119,6 +124,7 @@ def read_clothoid_spline(
     if not segments:
         raise doc.fail(element, "needs at least one <ClothoidSplineSegment>")
     shape = SampledShape()
+    total_m = 0.0
     starts = [_optional_number(doc, segment, "timeStart") for segment in segments]
     ends = [*starts[1:], _optional_number(doc, element, "timeEnd")]
     for segment, t_start, t_end in zip(segments, starts, ends, strict=True):
@@ -135,8 +141,9 @@ def read_clothoid_spline(
         k0, k1, length = (
             doc.number(segment, "curvatureStart"),
             doc.number(segment, "curvatureEnd"),
-            _length(doc, segment),
+            _length(doc, segment, total_m),
         )
+        total_m += length
         poses = clothoid_poses(start, k0, k1, length)
         times = _times(t_start, t_end, len(poses))
         if shape.vertices:  # the joint: the previous end's position, this segment's heading and time

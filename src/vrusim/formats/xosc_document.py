@@ -183,6 +183,19 @@ class XoscDocument:
         cannot use it as a name (too long, a null byte), rather than an OSError when it is looked up."""
         return check_name(base / name, f"{self.source}: line {element.line}: <{element.tag}> {attribute}")
 
+    def confined_path(self, element: Element, attribute: str, folder: Path, name: str, owner: str = ".xosc") -> Path:
+        """`folder / name` resolved (symlinks followed), a file name read from `attribute` of `element`: it must lie
+        inside `folder`, the folder of the `owner` file. An absolute name, or one that leads out of the folder (`..`,
+        a symlink), is a user error at the element before anything is looked up or read there."""
+        inside = folder.resolve()
+        try:
+            path = self.named_path(element, attribute, inside, name).resolve()
+        except (OSError, RuntimeError) as error:  # a symlink loop
+            raise self.fail(element, f"{attribute} {shown(name)} cannot be resolved ({error})") from None
+        if Path(name).is_absolute() or not path.is_relative_to(inside):
+            raise self.fail(element, f"{attribute} {shown(name)} leads outside the folder of the {owner}; refused")
+        return path
+
     def properties(self, parent: Element) -> dict[str, str]:
         """The `<Properties>` of `parent` (name -> value); `<File>` entries are refused."""
         element = self.optional(parent, "Properties")

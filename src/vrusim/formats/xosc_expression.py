@@ -69,10 +69,8 @@ class ExpressionError(ValueError):
 def _tokens(text: str) -> list[tuple[str, str]]:
     """(kind, text) pairs; kind is number, param, word or op; an ("end", "") pair closes the list."""
     out: list[tuple[str, str]] = []
-    position, length = 0, len(text)
+    position, length = 0, len(text.rstrip())  # trailing blanks end the text: no copy of the rest per token
     while position < length:
-        if text[position:].isspace():
-            break
         match = _TOKEN.match(text, position)
         if match is None:
             shown = text[position : position + 10].strip()

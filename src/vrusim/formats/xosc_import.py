@@ -2,10 +2,11 @@
 
 `read_xosc(path)` reads the file safely (`xml_file`: size limit, no DTD or entities, line numbers), resolves its
 parameters (`xosc_document`) and its catalog locations (`xosc_catalogs`), reads the road network its
-`<RoadNetwork><LogicFile>` names (relative to the .xosc; `xodr_reader`), the entities (`xosc_entities`) and the
-storyboard (`xosc_storyboard`), and builds the scenario (`xosc_scenario`, `xosc_route_fit`, `xosc_road`). Anything
-outside the subset is a UserInputError naming the file, the line and the element (docs/openscenario_import.md). The
-planner, sensor, V2X and simulation step are not in the file: the scenario gets vrusim's defaults for them.
+`<RoadNetwork><LogicFile>` names (relative to the .xosc, inside its folder; `xodr_reader`), the entities
+(`xosc_entities`) and the storyboard (`xosc_storyboard`), and builds the scenario (`xosc_scenario`,
+`xosc_route_fit`, `xosc_road`). Anything outside the subset is a UserInputError naming the file, the line and
+the element (docs/openscenario_import.md). The planner, sensor, V2X and simulation step are not in the file: the
+scenario gets vrusim's defaults for them.
 `import_xosc` also returns the warnings: elements ignored because they do not change the motion (`xosc_notes`; more
 of them with `lenient`).
 """
@@ -65,7 +66,8 @@ def _road_network(doc: XoscDocument, root: Element, path: Path) -> Network:
     if logic is None:
         raise doc.fail(network, "has no <LogicFile>: vrusim needs the OpenDRIVE road (.xodr)")
     name = doc.text(logic, "filepath")
-    road_file = doc.named_path(logic, "filepath", path.parent, name)
+    doc.confined_path(logic, "filepath", path.parent, name)
+    road_file = path.parent / name  # as written, for messages
     if not road_file.is_file():
         raise doc.fail(logic, f"names {shown(name)}, which is not a file next to the .xosc")
     return read_xodr(road_file)

@@ -17,6 +17,7 @@ from vrusim.errors import UserInputError
 from vrusim.formats.xodr_drawing import drawing_fields
 from vrusim.formats.xodr_geometry import reference_poses
 from vrusim.formats.xodr_model import Network
+from vrusim.limits import excess
 
 
 def road_fields(network: Network) -> dict[str, Any]:
@@ -32,6 +33,12 @@ def road_fields(network: Network) -> dict[str, Any]:
     for road in roads:
         x, y, _ = reference_poses(road, np.array([0.0, road.length_m]))
         reach = max(reach, float(np.max(np.abs(x))), float(np.max(np.abs(y))))
+        reason = excess("length_m", 2 * reach)
+        if reason is not None:
+            raise UserInputError(
+                f"{network.source or 'OpenDRIVE'}: line {road.line}: <road> id {road.id!r} ends "
+                f"{reach:.6g} m from the origin; the road's length (road.length_m, twice that): {reason}"
+            )
     return {
         "layout": "intersection" if network.junctions else "straight",
         "lane_width_m": lanes[0].widths[0].a,

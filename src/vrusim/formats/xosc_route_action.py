@@ -33,6 +33,7 @@ from vrusim.formats.xosc_document import XoscDocument
 from vrusim.formats.xosc_model import SampledShape, WorldPose
 from vrusim.formats.xosc_positions import read_position
 from vrusim.geometry.paths import SAMPLE_SPACING_M
+from vrusim.limits import check_limit
 
 SPACING_M = SAMPLE_SPACING_M
 """Largest distance along s between two route vertices, m."""
@@ -146,6 +147,9 @@ def route_shape(
         legs = _legs(network, stops, strategies)
     except UserInputError as error:
         raise doc.fail(route, f"{error}") from None
+    check_limit(
+        "length_m", sum(abs(leg[3] - leg[2]) for leg in legs), f"{doc.source}: line {route.line}: <Route> length"
+    )
     shape = SampledShape()
     for road_id, lane_id, s_from, s_to in legs:
         poses = _lane_poses(network, road_id, lane_id, s_from, s_to)

@@ -69,6 +69,8 @@ def constant_speed(source: str, vertices: tuple[WorldPose, ...], timing: VertexT
     if times[-1] <= times[0]:
         raise _fail(source, timing, len(times) - 1, f"time {times[-1]:g} s is not after the first ({times[0]:g} s)")
     speed = along[-1] / (times[-1] - times[0])
+    if not speed > 0:
+        raise _fail(source, timing, len(times) - 1, "ends where the trajectory starts: a timed trajectory must move")
     for index, (distance, time) in enumerate(zip(along, times, strict=True)):
         expected = times[0] + distance / speed
         if abs(time - expected) > TIME_TOL_S:

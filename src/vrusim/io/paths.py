@@ -113,6 +113,22 @@ def check_output_file(path: str | Path, option: str) -> Path:
     return path
 
 
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether `a` and `b` name one file: the same resolved path (symlinks followed), or one file under two names
+    (a hard link)."""
+    try:
+        return Path(a).resolve() == Path(b).resolve() or os.path.samefile(a, b)
+    except (OSError, RuntimeError, ValueError):  # one does not exist, a symlink loop, a null byte
+        return False
+
+
+def check_not_input(path: Path, source: Path, option: str, what: str) -> None:
+    """A UserInputError naming `option` if the output `path` is the input file `source` (`what`, e.g. FILE.xosc),
+    which writing would replace."""
+    if same_file(path, source):
+        raise UserInputError(f"{option}: {shown(path)} is the {what} being read; writing it would replace it")
+
+
 def _nearest_existing(path: Path) -> Path:
     """`path` or its closest ancestor that exists (as anything)."""
     for candidate in (path, *path.parents):
