@@ -12,9 +12,9 @@ complete batches, and `--resume` runs exactly the missing ones. Each variant the
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -25,9 +25,8 @@ import pyarrow.parquet as pq
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_folder, for_option, make_folder, remove_folders, shown
+from vrusim.sweep.manifest import FORMAT, MANIFEST, RESUME_KEYS, read_manifest
 
-FORMAT = "vrusim-sweep/1"
-MANIFEST = "manifest.json"
 DESIGN = "design.parquet"
 CHUNKS = "chunks"
 _CHUNK_NAME = re.compile(r"chunk-(\d{6,})\.parquet")
@@ -53,7 +52,8 @@ class SweepStore:
 
     def check_new(self, replace: bool = False) -> None:
         """Refuse a folder that cannot take a new sweep: a file, or a folder that is not empty, unless `replace` and
-        it holds a previous sweep's results; or a path that cannot be a folder to write into (`vrusim.io.paths`)."""
+        it holds a previous sweep's results (a vrusim-sweep/1 manifest, and in its chunks folder only files vrusim
+        writes); or a path that cannot be a folder to write into (`vrusim.io.paths`)."""
         check_output_folder(self.folder, "--out")
         if not self.folder.exists() or (self.folder.is_dir() and not any(self.folder.iterdir())):
             return
@@ -62,18 +62,40 @@ class SweepStore:
                 f"--out: {shown(self.folder)} already exists and is not empty; use --resume to continue the sweep in "
                 "it, --force to replace it, or choose a new folder"
             )
-        if not self.manifest_path.is_file():
+        try:
+            read_manifest(self.folder)
+        except UserInputError as error:
             raise UserInputError(
-                f"--out: {shown(self.folder)} is not empty and holds no sweep results (no {MANIFEST}); --force "
-                "replaces only a previous sweep, choose a new folder"
+                f"--out: {shown(self.folder)} is not empty and holds no sweep results ({error}); --force replaces "
+                "only a previous sweep, choose a new folder"
+            ) from None
+        foreign = self._foreign()
+        if foreign:
+            listed = ", ".join(shown(path.name) for path in foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+            raise UserInputError(
+                f"--out: {shown(self.chunks)} holds files vrusim did not write ({listed}); --force deletes only a "
+                "sweep's own files: move them away or choose a new folder"
             )
 
+    def _foreign(self) -> list[Path]:
+        """Entries of the chunks folder (or the path itself, if it is no folder) that are not vrusim's."""
+        if not self.chunks.exists() and not self.chunks.is_symlink():
+            return []
+        if self.chunks.is_symlink() or not self.chunks.is_dir():
+            return [self.chunks]
+        return sorted(path for path in self.chunks.iterdir() if not _is_own(path))
+
     def remove(self) -> None:
-        """Delete a previous sweep's files: the manifest first (the folder stops being a sweep), design, batches."""
+        """Delete a previous sweep's files, only those vrusim writes: the manifest first (the folder stops being
+        a sweep), the design, the batch files and temporary files, then the chunks folder if that left it empty."""
         self.manifest_path.unlink(missing_ok=True)
         (self.folder / DESIGN).unlink(missing_ok=True)
-        if self.chunks.is_dir():
-            shutil.rmtree(self.chunks)
+        if self.chunks.is_dir() and not self.chunks.is_symlink():
+            for path in self.chunks.iterdir():
+                if _is_own(path):
+                    path.unlink()
+            with contextlib.suppress(OSError):
+                self.chunks.rmdir()
 
     def create(self, manifest: dict[str, Any], design: pa.Table, replace: bool = False) -> None:
         """Start a new results folder (missing or empty; with `replace`, one holding a previous sweep, whose files
@@ -101,16 +123,8 @@ class SweepStore:
         remove_folders(self._created)
 
     def manifest(self) -> dict[str, Any]:
-        """The manifest of an existing results folder."""
-        try:
-            manifest = json.loads(self.manifest_path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise UserInputError(f"{self.folder}: not a sweep results folder (no {MANIFEST})") from None
-        except (OSError, ValueError) as error:
-            raise UserInputError(f"{self.manifest_path}: cannot read the sweep manifest ({error})") from None
-        if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
-            raise UserInputError(f"{self.manifest_path}: not a {FORMAT} manifest")
-        return manifest
+        """The manifest of an existing results folder, with the plan `--resume` needs (`vrusim.sweep.manifest`)."""
+        return read_manifest(self.folder, RESUME_KEYS)
 
     def design(self) -> pa.Table:
         """The stored design table."""
@@ -159,6 +173,12 @@ class SweepStore:
             raise UserInputError(f"{self.folder}: no finished batches yet")
         table = pa.concat_tables(tables, promote_options="default")
         return table.sort_by("variant")
+
+
+def _is_own(path: Path) -> bool:
+    """A file vrusim writes in the chunks folder: a batch file or a temporary file (not a folder or a link)."""
+    own = _CHUNK_NAME.fullmatch(path.name) or (path.name.startswith(".") and path.name.endswith(".tmp"))
+    return bool(own) and path.is_file() and not path.is_symlink()
 
 
 def write_parquet(table: pa.Table, path: Path) -> None:

@@ -13,7 +13,6 @@ See docs/sweep_analysis.md.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
@@ -25,10 +24,8 @@ import duckdb
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.studies.compare import wilson_interval
+from vrusim.sweep.manifest import MANIFEST, read_manifest
 
-FORMAT = "vrusim-sweep/1"
-"""The manifest's `format` this module reads."""
-MANIFEST = "manifest.json"
 CHUNKS_FOLDER = "chunks"
 DEFAULT_BINS = 10
 DEFAULT_METRICS = ("min_ttc_s", "impact_ego_speed_mps", "safety", "efficiency", "comfort")
@@ -152,28 +149,6 @@ class SweepResults:
         raise UserInputError(f"{option}: unknown metric {name!r}; expected one of: {choices}")
 
 
-def _read_manifest(directory: Path) -> dict[str, Any]:
-    path = directory / MANIFEST
-    if not path.is_file():
-        raise UserInputError(f"{directory}: no {MANIFEST}; expected a sweep results directory (vrusim sweep)")
-    try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read ({error})") from None
-    except json.JSONDecodeError as error:
-        raise UserInputError(f"{path}: not valid JSON ({error.msg} at line {error.lineno})") from None
-    if not isinstance(manifest, dict):
-        raise UserInputError(f"{path}: expected a JSON object")
-    if manifest.get("format") != FORMAT:
-        raise UserInputError(f"{path}: format: expected {FORMAT!r}, got {manifest.get('format')!r}")
-    parameters = manifest.get("parameters")
-    if not isinstance(parameters, list) or not all(
-        isinstance(entry, dict) and isinstance(entry.get("name"), str) for entry in parameters
-    ):
-        raise UserInputError(f"{path}: parameters: expected a list of objects with a 'name'")
-    return manifest
-
-
 def chunk_files(directory: Path) -> list[Path]:
     """The finished chunk files, sorted by name (temporary files, named with a leading '.', are skipped)."""
     folder = directory / CHUNKS_FOLDER
@@ -188,7 +163,7 @@ def _open(directory: str | Path, con: duckdb.DuckDBPyConnection) -> SweepResults
         raise UserInputError(f"{directory}: results directory not found")
     if not directory.is_dir():
         raise UserInputError(f"{directory}: expected a sweep results directory, got a file")
-    manifest = _read_manifest(directory)
+    manifest = read_manifest(directory)
     files = chunk_files(directory)
     if not files:
         raise UserInputError(
