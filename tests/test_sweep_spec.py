@@ -390,3 +390,42 @@ def test_bad_correlations_name_the_entry(correlation, message):
     with pytest.raises(UserInputError) as error:
         spec(parameters, correlation=correlation)
     assert message in str(error.value)
+
+
+# --------------------------------------------------------------------------------------------- overlapping paths
+
+
+@pytest.mark.parametrize(
+    ("parameters", "fixed", "names"),
+    [
+        (
+            {"vrus[0].top_speed_mps": [0.5, 2.5], "vrus[00].top_speed_mps": [1.5]},
+            {},
+            ["'vrus[0].top_speed_mps'", "'vrus[00].top_speed_mps'", "same field"],
+        ),
+        (
+            {"ego.cruise_speed_mps": [5, 20], "ego": [{"cruise_speed_mps": 12}]},
+            {},
+            ["'ego'", "'ego.cruise_speed_mps'", "overlap", "overwrite"],
+        ),
+        ({"v2x.channel.latency_s": [0.1], "v2x.channel": ["ideal"]}, {}, ["'v2x.channel'", "overlap", "first"]),
+        (
+            {"vrus[00].top_speed_mps": [1.5]},
+            {"vrus[0].top_speed_mps": 1.0},
+            ["set.vrus[0].top_speed_mps", "parameters"],
+        ),
+    ],
+)
+def test_parameters_naming_one_field_twice_are_refused(parameters, fixed, names):
+    with pytest.raises(UserInputError) as caught:
+        spec(parameters, set=fixed)
+    for name in names:
+        assert name in str(caught.value)
+
+
+def test_a_parent_swept_before_its_field_is_overridden_by_the_field(base):
+    ego = base.ego.model_dump(mode="json") | {"cruise_speed_mps": 12.0}
+    plan = make_plan(spec({"ego": [ego], "ego.cruise_speed_mps": [5.0, 20.0]}))
+    design = make_design(plan)
+    variants = VariantBuilder(plan).build({k: v.tolist() for k, v in design.items()}, range(2))
+    assert [v.ego.cruise_speed_mps for v in variants] == [5.0, 20.0]

@@ -29,6 +29,7 @@ from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
+from vrusim.scenario.field_paths import Step, parse_path
 from vrusim.scenario.loading import field_path
 from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
@@ -251,6 +252,45 @@ def parse_parameter(path: str, value: Any) -> Parameter:
     )
 
 
+def _steps(path: str) -> tuple[Step, ...] | None:
+    """The normalised steps of a path (`vrus[00]` is `vrus[0]`); None for a malformed one (refused later)."""
+    try:
+        return parse_path(path)
+    except UserInputError:
+        return None
+
+
+def check_overlaps(paths: list[str], fixed: list[str]) -> None:
+    """Refuse two `parameters` entries naming the same field (`vrus[0].x`, `vrus[00].x`), or a field followed by
+    one of its parents (`ego.cruise_speed_mps`, then `ego`): values are applied in spec order, so the variant would
+    take only the later value while the design records both. (A parent followed by its field is fine: the field's
+    value overrides the parent's, e.g. `v2x.channel` then `v2x.channel.latency_s`.) The same for a `set` field
+    and a parameter naming the same field written differently."""
+    seen: list[tuple[tuple[Step, ...], str]] = []
+    for path in paths:
+        steps = _steps(path)
+        if steps is None:
+            continue
+        for earlier_steps, earlier in seen:
+            if steps == earlier_steps:
+                raise UserInputError(f"parameters: {earlier!r} and {path!r} name the same field; give it once")
+            if earlier_steps[: len(steps)] == steps:
+                raise UserInputError(
+                    f"parameters: {earlier!r} and {path!r} overlap: {earlier} is part of {path}, which comes later "
+                    f"and would overwrite it in every variant; give {path!r} first (its fields then override it) "
+                    "or sweep only one of them"
+                )
+        seen.append((steps, path))
+    for path in fixed:
+        steps = _steps(path)
+        for earlier_steps, earlier in seen:
+            if steps == earlier_steps:
+                raise UserInputError(
+                    f"set.{path}: the same field as parameters.{earlier}; a field is either fixed (set) or swept "
+                    "(parameters), not both"
+                )
+
+
 def check_bounds(parameter: Parameter) -> None:
     """Refuse a parameter whose values or range reach beyond the physical bound of its field (by the unit in
     the field's name, `vrusim.scenario.bounds`), before any variant is built. A normal distribution has no
@@ -330,6 +370,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     clash = sorted(set(document.set) & set(document.parameters))
     if clash:
         raise UserInputError(f"set.{clash[0]}: a field is either fixed (set) or swept (parameters), not both")
+    check_overlaps([p.path for p in parameters], list(map(str, document.set)))
     for parameter in parameters:
         check_bounds(parameter)
     grid_points = math.prod(len(p.values) for p in parameters if not p.is_random)
