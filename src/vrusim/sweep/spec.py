@@ -33,9 +33,11 @@ from vrusim.scenario.field_paths import Step, parse_path
 from vrusim.scenario.loading import field_path
 from vrusim.scenario.strict import StrictModel, error_message
 from vrusim.scenario.yaml_file import read_yaml_file
+from vrusim.sweep.normal import normal_cdf
 
 MIN_TRUNCATED_MASS = 1e-6
-"""Least probability a truncated normal's interval may hold (rejection sampling would never end)."""
+"""Least probability a truncated normal's interval may hold (`vrusim.sweep.truncated` draws it exactly down to
+that; below it a spec is more likely mistaken than meant)."""
 GRID_KINDS = ("grid",)
 RANDOM_KINDS = ("uniform", "normal", "truncated_normal", "choice")
 
@@ -198,11 +200,13 @@ def _choice(where: str, value: Any) -> tuple[tuple[Any, ...], tuple[float, ...]]
     return tuple(values), tuple(w / total for w in numbers)
 
 
-def _truncated_mass(mean: float, std: float, low: float, high: float) -> float:
-    def cdf(x: float) -> float:
-        return 0.5 * (1.0 + math.erf((x - mean) / (std * math.sqrt(2.0))))
-
-    return cdf(high) - cdf(low)
+def truncated_mass(mean: float, std: float, low: float, high: float) -> float:
+    """The probability N(mean, std²) gives [low, high], computed in the lower tail (a window above the mean is
+    mirrored), where Φ keeps its relative accuracy far from the mean."""
+    a, b = (low - mean) / std, (high - mean) / std
+    if a > 0:
+        a, b = -b, -a
+    return float(normal_cdf(b) - normal_cdf(a))
 
 
 def parse_parameter(path: str, value: Any) -> Parameter:
@@ -240,7 +244,7 @@ def parse_parameter(path: str, value: Any) -> Parameter:
         mean, std, low, high = _numbers(where, _named(where, args, names), 4, "[mean, std, low, high]")
         if std <= 0 or not low < high:
             raise UserInputError(f"{where}: expected std > 0 and low < high")
-        if _truncated_mass(mean, std, low, high) < MIN_TRUNCATED_MASS:
+        if truncated_mass(mean, std, low, high) < MIN_TRUNCATED_MASS:
             raise UserInputError(f"{where}: [low, high] holds almost none of the normal's probability")
         return Parameter(path, "truncated_normal", mean=mean, std=std, low=low, high=high)
     if kind == "choice":
