@@ -197,6 +197,17 @@ def _counts(plan: dict) -> str:
     return f"{plan['tests']:,} catalogue tests × {values:,} parameter grid points × {samples}"
 
 
+SHOWN_VALUES = 8
+"""A longer list of values is printed as its first and last few and its length (--json gives them all)."""
+
+
+def _abridged(value: object) -> object:
+    """A list of more than SHOWN_VALUES values as its first five, '…', its last two and the count."""
+    if not isinstance(value, list) or len(value) <= SHOWN_VALUES:
+        return value
+    return f"[{', '.join(map(repr, value[:5]))}, …, {', '.join(map(repr, value[-2:]))}] ({len(value):,} values)"
+
+
 def _print_plan(plan: dict, as_json: bool) -> None:
     if as_json:
         print_json(plan)
@@ -208,7 +219,7 @@ def _print_plan(plan: dict, as_json: bool) -> None:
     )
     for p in plan["parameters"]:
         drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
-        settings = {k: v for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
+        settings = {k: _abridged(v) for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
         out.print(f"  {p['name']}: {p['kind']} {settings}{drawn}", markup=False)
     for c in plan["correlations"]:
         ranks = c["drawn_rank_correlation"]

@@ -82,7 +82,7 @@ def read_manifest(folder: Path, needed: tuple[str, ...] = ()) -> dict[str, Any]:
     UserInputError naming it."""
     path = folder / MANIFEST
     if not path.is_file():
-        raise UserInputError(f"{shown(folder)}: no {MANIFEST}; expected a sweep results folder (vrusim sweep)")
+        raise UserInputError(f"{shown(folder)}: not a sweep results folder (no {MANIFEST}; written by vrusim sweep)")
     try:
         manifest = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as error:

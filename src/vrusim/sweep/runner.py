@@ -14,16 +14,15 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from vrusim.engine.compiled_run import compiled_support
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
-from vrusim.planners.registry import make_planner, plugin_source
+from vrusim.planners.registry import plugin_source
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
-from vrusim.sweep.design import design_rows, make_design, preflight_rows
+from vrusim.sweep.design import design_rows, make_design
 from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_in_process, run_processes
-from vrusim.sweep.plan import PlannedSweep, SweepPlan, VariantBuilder, check_budgets, make_plan
+from vrusim.sweep.plan import PlannedSweep, SweepPlan, check_budgets, make_plan
+from vrusim.sweep.preflight import Preflight, preflight
 from vrusim.sweep.spec import Parameter, SweepSpec
 from vrusim.sweep.store import SweepStore, check_exactly_once
 from vrusim.sweep.tables import chunk_table, design_types
@@ -108,32 +107,6 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
     if plan.digest() != manifest.get("plan_sha256"):
         raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     return plan
-
-
-@dataclass(frozen=True)
-class Preflight:
-    """What checking a sample of a sweep's variants found."""
-
-    checked: int
-    """Variants built and checked."""
-    compiled: bool
-    """Every sampled variant runs the engine's compiled step (`engine.compiled_run`), which spreads a batch over
-    the cores as threads of one process."""
-
-
-def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> Preflight:
-    """Build and check a sample of variants (extremes, every discrete value, the first batch)."""
-    rows = preflight_rows(design, plan)
-    scenarios = VariantBuilder(plan).build({k: v[rows].tolist() for k, v in design.items()}, range(len(rows)))
-    by_planner: dict[str, list] = {}
-    for scenario in scenarios:
-        by_planner.setdefault(scenario.planner.name, []).append(scenario)
-    compiled = True
-    for name, group in by_planner.items():
-        batch, planner = pack(group), make_planner(name)
-        planner.reset(batch)  # planner.params validated by the planner
-        compiled = compiled and compiled_support(batch, planner, None, trace=False) is None
-    return Preflight(len(rows), compiled)
 
 
 def local_workers(requested: int, compiled: bool) -> int:
