@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pyarrow as pa
@@ -68,6 +67,6 @@ def test_replacing_a_sweep_deletes_only_its_own_files(tmp_path):
 def test_force_on_a_foreign_folder_with_a_folder_for_chunks_deletes_nothing(tmp_path):
     store = previous_sweep(tmp_path / "out")
     (store.chunks / "chunk-000004.parquet").mkdir()
-    with pytest.raises(UserInputError, match="chunk-000004.parquet"):
+    with pytest.raises(UserInputError, match=r"chunk-000004\.parquet"):
         store.check_new(replace=True)
     assert (store.chunks / "chunk-000004.parquet").is_dir()
