@@ -122,7 +122,8 @@ def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
         if p.is_random:
             columns[p.path] = correlated[p.path] if p.path in correlated else _draw(p, plan.seed, count)
     if "sim.seed" in columns:
-        columns["seed"] = columns["sim.seed"].astype(np.int64)
+        with np.errstate(invalid="ignore"):  # a seed beyond int64 is refused when its variant is built
+            columns["seed"] = columns["sim.seed"].astype(np.int64)
     return columns
 
 

@@ -162,11 +162,21 @@ def _named(where: str, value: Any, names: tuple[str, ...]) -> list[Any]:
     return value
 
 
+def _finite_span(where: str, low: float, high: float, what: str) -> None:
+    """Refuse ends so far apart that their difference overflows (the values would be infinite or NaN)."""
+    if not math.isfinite(high - low):
+        raise UserInputError(f"{where}: expected {what} to be a finite number, got {low:g} and {high:g}")
+
+
 def _grid_range(where: str, value: Any) -> tuple[float, ...]:
     start, stop, step = _numbers(where, _named(where, value, ("start", "stop", "step")), 3, "[start, stop, step]")
     if step <= 0 or stop < start:
         raise UserInputError(f"{where}: expected step > 0 and stop >= start")
-    count = math.floor((stop - start) / step + 1e-9) + 1
+    _finite_span(where, start, stop, "stop - start")
+    span = (stop - start) / step
+    if not math.isfinite(span):  # a step so small the count overflows
+        check_limit("sweep_variants", 1e300, f"{where}: its values")
+    count = math.floor(span + 1e-9) + 1
     check_limit("sweep_variants", count, f"{where}: its values")
     return tuple(round(start + i * step, 12) for i in range(count))
 
@@ -177,6 +187,7 @@ def _linspace(where: str, value: Any) -> tuple[float, ...]:
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:
         raise UserInputError(f"{where}: count must be a whole number ≥ 1")
     check_limit("sweep_variants", count, f"{where}: count")
+    _finite_span(where, start, stop, "stop - start")
     if count == 1:
         return (start,)
     return tuple(start + (stop - start) * i / (count - 1) for i in range(count))
@@ -197,6 +208,9 @@ def _choice(where: str, value: Any) -> tuple[tuple[Any, ...], tuple[float, ...]]
     total = sum(numbers)
     if any(w < 0 for w in numbers) or total <= 0:
         raise UserInputError(f"{where}.weights: expected non-negative weights with a positive sum")
+    if not math.isfinite(total):  # weights near the float maximum: scaled first (finite sums stay as they were)
+        numbers = [w / max(numbers) for w in numbers]
+        total = sum(numbers)
     return tuple(values), tuple(w / total for w in numbers)
 
 
@@ -233,6 +247,7 @@ def parse_parameter(path: str, value: Any) -> Parameter:
         low, high = _numbers(where, _named(where, args, ("low", "high")), 2, "[low, high]")
         if not low < high:
             raise UserInputError(f"{where}: expected low < high")
+        _finite_span(where, low, high, "high - low")
         return Parameter(path, "uniform", low=low, high=high)
     if kind == "normal":
         mean, std = _numbers(where, _named(where, args, ("mean", "std")), 2, "[mean, std]")
