@@ -2,16 +2,23 @@
 
 from __future__ import annotations
 
+import json
+import math
+import shutil
 from pathlib import Path
 
 import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 import yaml
 
 from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR
 from vrusim.errors import UserInputError
-from vrusim.sweep.store import SweepStore
+from vrusim.sweep.chunk_checks import recorded_digest, with_plan_digest
+from vrusim.sweep.runner import run_sweep
+from vrusim.sweep.spec import load_spec
+from vrusim.sweep.store import SweepStore, chunk_name
 
 SPEC = {
     "base": str(PAPER_DIR / "pedestrian_crossing.yaml"),
@@ -70,3 +77,120 @@ def test_force_on_a_foreign_folder_with_a_folder_for_chunks_deletes_nothing(tmp_
     with pytest.raises(UserInputError, match=r"chunk-000004\.parquet"):
         store.check_new(replace=True)
     assert (store.chunks / "chunk-000004.parquet").is_dir()
+
+
+# --------------------------------------------------------------------------------------------- stored batches
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory) -> Path:
+    """A finished sweep of 4 variants in 4 batches (copied by each test before it is changed)."""
+    folder = tmp_path_factory.mktemp("finished")
+    spec = load_spec(write_spec(folder, samples=4, batch_size=1))
+    run_sweep(spec, folder / "out", workers=1)
+    return folder / "out"
+
+
+@pytest.fixture
+def sweep(finished, tmp_path) -> Path:
+    return Path(shutil.copytree(finished, tmp_path / "sweep"))
+
+
+def chunk(folder: Path, index: int) -> Path:
+    return folder / "chunks" / chunk_name(index)
+
+
+def rewrite(path: Path, change) -> None:
+    """Rewrite a batch file with `change(table)` (keeping its metadata unless `change` replaces it)."""
+    pq.write_table(change(pq.read_table(path)), path)
+
+
+def test_resume_refuses_a_truncated_batch_file_naming_it(sweep):
+    chunk(sweep, 1).write_bytes(chunk(sweep, 1).read_bytes()[:300])
+    chunk(sweep, 2).unlink()
+    assert_user_error(invoke("sweep", "--out", sweep, "--resume"), "chunk-000001.parquet", "cannot read")
+
+
+def test_resume_refuses_a_stray_copy_beyond_the_last_batch(sweep):
+    shutil.copy(chunk(sweep, 0), chunk(sweep, 9))
+    assert_user_error(invoke("sweep", "--out", sweep, "--resume"), "chunk-000009.parquet", "no batch 9")
+
+
+def test_resume_refuses_a_folder_named_like_a_batch_file(sweep):
+    chunk(sweep, 3).unlink()
+    chunk(sweep, 3).mkdir()
+    assert_user_error(invoke("sweep", "--out", sweep, "--resume"), "chunk-000003.parquet", "folder")
+
+
+def test_resume_refuses_a_batch_file_of_another_batch(sweep):
+    shutil.copy(chunk(sweep, 0), chunk(sweep, 2))
+    assert_user_error(invoke("sweep", "--out", sweep, "--resume"), "chunk-000002.parquet", "variants 2 … 2")
+
+
+def test_resume_refuses_a_batch_file_of_another_sweep(sweep):
+    rewrite(chunk(sweep, 1), lambda table: with_plan_digest(table, "0" * 64))
+    chunk(sweep, 2).unlink()
+    assert_user_error(invoke("sweep", "--out", sweep, "--resume"), "chunk-000001.parquet", "another sweep")
+    assert_user_error(invoke("summarize", sweep), "chunk-000001.parquet", "another sweep")
+
+
+def test_batch_files_record_their_plan_and_files_without_one_are_resumed(sweep):
+    digest = json.loads((sweep / "manifest.json").read_text())["plan_sha256"]
+    assert recorded_digest(pq.read_schema(chunk(sweep, 0)).metadata) == digest
+    for index in range(3):  # as written before digests were recorded
+        rewrite(chunk(sweep, index), lambda table: table.replace_schema_metadata(None))
+    chunk(sweep, 3).unlink()
+    result = invoke("sweep", "--out", sweep, "--resume", "--quiet")
+    assert result.exit_code == 0, result.output
+    assert SweepStore(sweep).read().column("variant").to_pylist() == [0, 1, 2, 3]
+
+
+# --------------------------------------------------------------------------------------------- the manifest
+
+
+def edit_manifest(folder: Path, change) -> None:
+    path = folder / "manifest.json"
+    manifest = json.loads(path.read_text())
+    change(manifest)
+    path.write_text(json.dumps(manifest))
+
+
+@pytest.mark.parametrize(
+    ("change", "command", "names"),
+    [
+        (lambda m: m.pop("plan"), ["sweep", "--resume", "--out"], ["manifest.json", "plan: missing"]),
+        (lambda m: m.update(plan="x"), ["sweep", "--resume", "--out"], ["manifest.json", "plan: expected an object"]),
+        (lambda m: m["plan"].pop("seed"), ["sweep", "--resume", "--out"], ["manifest.json", "plan.seed"]),
+        (lambda m: m["plan"].update(parameters=[1]), ["sweep", "--resume", "--out"], ["manifest.json", "edited"]),
+        (lambda m: m.update(code=5), ["report"], ["manifest.json", "code: expected an object"]),
+        (lambda m: m.update(spec=[1], base_file=None), ["report"], ["manifest.json", "spec: expected an object"]),
+        (lambda m: m.update(chunks=2), ["summarize"], ["chunks", "4 chunk files", "announces 2"]),
+        (lambda m: m.update(chunks="2"), ["summarize"], ["manifest.json", "chunks: expected a whole number"]),
+    ],
+)
+def test_a_hand_edited_manifest_is_one_message_naming_the_key(sweep, tmp_path, change, command, names):
+    edit_manifest(sweep, change)
+    extra = ["--out", tmp_path / "r.html"] if command == ["report"] else []
+    assert_user_error(invoke(*command, sweep, *extra), *names)
+
+
+# --------------------------------------------------------------------------------------------- NaN and infinity
+
+
+def test_a_batch_file_holding_nan_or_infinity_is_refused_where_it_is_read(sweep, tmp_path):
+    def poison(table: pa.Table) -> pa.Table:
+        safety = table.column("safety").to_pylist()
+        table = table.set_column(table.schema.get_field_index("safety"), "safety", pa.array([math.inf, *safety[1:]]))
+        return table
+
+    rewrite(chunk(sweep, 2), poison)
+    for command in (["summarize", sweep, "--json"], ["report", sweep, "--out", tmp_path / "r.html"]):
+        assert_user_error(invoke(*command), "chunk-000002.parquet", "safety", "NaN or infinity")
+    with pytest.raises(UserInputError, match="safety"):
+        SweepStore(sweep).read()
+
+
+def test_a_parameter_column_holding_nan_is_refused_by_summarize(sweep):
+    name = "ego.cruise_speed_mps"
+    rewrite(chunk(sweep, 1), lambda t: t.set_column(t.schema.get_field_index(name), name, pa.array([math.nan])))
+    assert_user_error(invoke("summarize", sweep, "--by", name), "chunk-000001.parquet", name)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
 import platform
 import subprocess
 import time
@@ -19,6 +21,7 @@ from vrusim.io.paths import check_name
 from vrusim.planners.registry import plugin_source
 from vrusim.scenario.loading import scenario_from_mapping
 from vrusim.sweep.chunk import ChunkTask
+from vrusim.sweep.chunk_checks import checked_batches
 from vrusim.sweep.design import design_rows, make_design
 from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_in_process, run_processes
 from vrusim.sweep.plan import PlannedSweep, SweepPlan, check_budgets, make_plan
@@ -89,8 +92,12 @@ def code_version() -> dict[str, Any]:
 
 
 def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
-    """The plan recorded in a manifest (its digest checked)."""
+    """The plan recorded in a manifest (checked by `read_manifest`): its digest compared before it is rebuilt,
+    so an edited plan is one message, never an error of the rebuilding."""
     data = manifest["plan"]
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    if hashlib.sha256(text.encode()).hexdigest() != manifest["plan_sha256"]:
+        raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     parameters = tuple(Parameter.from_description(p) for p in data["parameters"])
     correlations = tuple((first, second, float(rho)) for first, second, rho in data.get("correlations", []))
     columns = tuple((name, tuple(values)) for name, values in data.get("base_columns", []))
@@ -104,7 +111,7 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
         correlations,
         columns,
     )
-    if plan.digest() != manifest.get("plan_sha256"):
+    if plan.digest() != manifest["plan_sha256"]:  # pragma: no cover (a plan vrusim cannot describe back)
         raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     return plan
 
@@ -332,7 +339,7 @@ def _execute(
     """Run the batches missing from `store`, writing each as it finishes: (pending, finished before, variants
     done now in all)."""
     store.clean_temporary()
-    finished = store.finished()
+    finished = checked_batches(store.batch_files(), plan.chunks, plan.chunk_range, plan.digest())
     pending = [i for i in range(plan.chunks) if i not in finished]
     done_variants = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
     if progress:
@@ -340,7 +347,7 @@ def _execute(
 
     def on_done(task: ChunkTask, table: pa.Table) -> None:
         nonlocal done_variants
-        store.write_chunk(task.index, table)
+        store.write_chunk(task.index, table, task.plan_digest)
         done_variants += table.num_rows
         if progress:
             progress(int(done_variants), plan.variants)

@@ -25,6 +25,7 @@ import pyarrow.parquet as pq
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_folder, for_option, make_folder, remove_folders, shown
+from vrusim.sweep.chunk_checks import foreign_message, non_finite_column, recorded_digest, with_plan_digest
 from vrusim.sweep.manifest import FORMAT, MANIFEST, RESUME_KEYS, read_manifest
 
 DESIGN = "design.parquet"
@@ -141,19 +142,31 @@ class SweepStore:
             removed += 1
         return removed
 
-    def finished(self) -> set[int]:
-        """Indices of the batches whose results file exists."""
+    def batch_files(self) -> dict[int, Path]:
+        """The batch files present (index → path; folders and links included, for `chunk_checks` to refuse); a
+        name vrusim does not write for its index (`chunk-0000001.parquet`) is a UserInputError."""
         if not self.chunks.is_dir():
-            return set()
-        found = set()
+            return {}
+        found = {}
         for path in self.chunks.iterdir():
             match = _CHUNK_NAME.fullmatch(path.name)
             if match:
-                found.add(int(match.group(1)))
+                index = int(match.group(1))
+                if path.name != chunk_name(index):
+                    raise UserInputError(
+                        f"{shown(path)}: not a name vrusim writes (batch {index} is {chunk_name(index)}); remove it"
+                    )
+                found[index] = path
         return found
 
-    def write_chunk(self, index: int, table: pa.Table) -> Path:
-        """Write batch `index` atomically."""
+    def finished(self) -> set[int]:
+        """Indices of the batches whose results file exists."""
+        return set(self.batch_files())
+
+    def write_chunk(self, index: int, table: pa.Table, plan_digest: str | None = None) -> Path:
+        """Write batch `index` atomically (recording `plan_digest`, `vrusim.sweep.chunk_checks`)."""
+        if plan_digest is not None:
+            table = with_plan_digest(table, plan_digest)
         with for_option("--out"):
             return write_atomically(self.chunks / chunk_name(index), lambda path: write_parquet(table, path), "results")
 
@@ -166,9 +179,24 @@ class SweepStore:
         parts = [_int64s(pq.ParquetFile(path).read(columns=["variant"]).column(0)) for path in self.chunk_files()]
         return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
 
+    def _read_batch(self, path: Path, digest: str) -> pa.Table:
+        """One batch file, refused (naming it) when unreadable, of another sweep, or holding NaN or infinity."""
+        try:
+            table = pq.read_table(path)
+        except (OSError, pa.ArrowException) as error:
+            raise UserInputError(f"{shown(path)}: cannot read this results file ({error})") from None
+        recorded = recorded_digest(table.schema.metadata)
+        if recorded is not None and recorded != digest:
+            raise UserInputError(foreign_message(path, recorded, digest))
+        column = non_finite_column(table)
+        if column is not None:
+            raise UserInputError(f"{shown(path)}: column {column} holds NaN or infinity, which vrusim never writes")
+        return table
+
     def read(self) -> pa.Table:
         """Every finished row, sorted by variant (batches with other planners may add columns: NULL elsewhere)."""
-        tables = [pq.read_table(path) for path in self.chunk_files()]
+        digest = self.manifest()["plan_sha256"]
+        tables = [self._read_batch(path, digest) for path in self.chunk_files()]
         if not tables:
             raise UserInputError(f"{self.folder}: no finished batches yet")
         table = pa.concat_tables(tables, promote_options="default")

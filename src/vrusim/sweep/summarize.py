@@ -24,6 +24,7 @@ import duckdb
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.studies.compare import wilson_interval
+from vrusim.sweep.chunk_checks import PLAN_KEY, foreign_message
 from vrusim.sweep.manifest import MANIFEST, read_manifest
 
 CHUNKS_FOLDER = "chunks"
@@ -173,8 +174,43 @@ def _open(directory: str | Path, con: duckdb.DuckDBPyConnection) -> SweepResults
     columns = {row[0]: row[1] for row in described}
     if OUTCOME_COLUMN not in columns:
         raise UserInputError(f"{directory / CHUNKS_FOLDER}: the chunk files have no {OUTCOME_COLUMN!r} column")
+    _check_files(con, directory, manifest, files, columns)
     parameters = tuple(entry["name"] for entry in manifest["parameters"])
     return SweepResults(directory, manifest, tuple(files), columns, parameters)
+
+
+def _check_files(
+    con: duckdb.DuckDBPyConnection, directory: Path, manifest: dict[str, Any], files: list[Path], columns: dict
+) -> None:
+    """Refuse more chunk files than the manifest announces, a file of another sweep (`chunk_checks`) and a
+    float column holding NaN or infinity (vrusim writes NULL for an absent value), naming the file."""
+    expected = manifest.get("chunks")
+    if expected is not None and len(files) > expected:
+        raise UserInputError(
+            f"{directory / CHUNKS_FOLDER}: {len(files)} chunk files, but {MANIFEST} announces {expected}; remove "
+            "the files that do not belong to this sweep"
+        )
+    digest = manifest.get("plan_sha256")
+    if digest is not None:
+        sql = "SELECT file_name, decode(value) FROM parquet_kv_metadata($files) WHERE key = $key"
+        key = PLAN_KEY.decode()
+        try:
+            rows = con.execute(sql, {"files": [str(f) for f in files], "key": key}).fetchall()
+        except duckdb.Error as error:
+            detail = str(error).strip().splitlines()[0]
+            raise UserInputError(f"{directory / CHUNKS_FOLDER}: cannot read the chunk files ({detail})") from None
+        for name, recorded in rows:
+            if recorded != digest:
+                raise UserInputError(foreign_message(Path(name), recorded, digest))
+    floats = [name for name, kind in columns.items() if kind in ("DOUBLE", "FLOAT")]
+    if floats:
+        test = " OR ".join(f"NOT isfinite({quote(name)})" for name in floats)
+        picked = ", ".join(f"NOT isfinite({quote(name)})" for name in floats)
+        source = "read_parquet($files, union_by_name = true, filename = true)"
+        found = _run(con, f"SELECT filename, {picked} FROM {source} WHERE {test} LIMIT 1", files, directory)
+        if found:
+            column = next(name for name, bad in zip(floats, found[0][1:], strict=True) if bad)
+            raise UserInputError(f"{found[0][0]}: column {column} holds NaN or infinity, which vrusim never writes")
 
 
 def open_results(directory: str | Path) -> SweepResults:
