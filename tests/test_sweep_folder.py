@@ -14,6 +14,8 @@ import yaml
 
 from cli_helpers import assert_user_error, invoke
 from conftest import PAPER_DIR
+from vrusim.cli.output import escape, report_user_error
+from vrusim.cli.sweep import _saved
 from vrusim.errors import UserInputError
 from vrusim.sweep.chunk_checks import recorded_digest, with_plan_digest
 from vrusim.sweep.runner import run_sweep
@@ -194,3 +196,30 @@ def test_a_parameter_column_holding_nan_is_refused_by_summarize(sweep):
     name = "ego.cruise_speed_mps"
     rewrite(chunk(sweep, 1), lambda t: t.set_column(t.schema.get_field_index(name), name, pa.array([math.nan])))
     assert_user_error(invoke("summarize", sweep, "--by", name), "chunk-000001.parquet", name)
+
+
+# --------------------------------------------------------------------------------------------- user text on the console
+
+
+@pytest.mark.parametrize("name", ["[/x]", "[bold red]EVIL[/]", "a\x1b[31mred"])
+def test_dry_run_prints_the_spec_name_literally(tmp_path, name):
+    result = invoke("sweep", write_spec(tmp_path, name=name), "--dry-run")
+    assert result.exit_code == 0, result.output
+    assert name.replace("\x1b", "\\x1b") in result.stdout and "\x1b" not in result.stdout
+
+
+@pytest.mark.parametrize("folder", ["[x]", "[/x]"])
+def test_the_summary_line_names_an_out_folder_with_brackets(finished, tmp_path, folder):
+    result = invoke("sweep", write_spec(tmp_path, samples=1), "--out", tmp_path / folder, "--quiet")
+    assert result.exit_code == 0, result.output
+    assert f"{tmp_path / folder} in" in " ".join(result.stdout.split())
+
+
+def test_user_errors_and_console_lines_show_control_characters_as_escapes(capsys):
+    report_user_error(UserInputError("name a\x1b[2Jb\nsecond line\tok"))
+    assert capsys.readouterr().err == "Error: name a\\x1b[2Jb\nsecond line\tok\n"
+    assert escape("[/x]\x07") == "\\[/x]\\x07"
+
+
+def test_an_interrupt_before_the_folder_exists_says_nothing_was_written(tmp_path):
+    assert _saved(tmp_path / "m4") == "nothing was written"

@@ -20,7 +20,7 @@ from rich.progress import (
 from rich.text import Text
 
 from vrusim.cli.options import ForceOption, JsonOption, seed_option
-from vrusim.cli.output import console, print_json, user_errors
+from vrusim.cli.output import console, escape, print_json, user_errors, visible, warn
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
@@ -124,16 +124,16 @@ def sweep_command(
             result = run_sweep(spec, out, workers, scheduler, batch_size, resume, progress, force)
         except KeyboardInterrupt:
             _stop(bar)
-            typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
+            typer.echo(visible(f"Interrupted: {_saved(out)}."), err=True)
             raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
         except SweepAbortedError as error:
             _stop(bar)
-            typer.echo(f"Error: {error}; finished batches are saved in {out}; continue with --resume.", err=True)
+            typer.echo(visible(f"Error: {error}; {_saved(out)}."), err=True)
             raise typer.Exit(1) from None
         finally:
             _stop(bar)
     for warning in result.warnings:
-        typer.echo(f"Warning: {warning}", err=True)
+        warn(warning)
     document = {
         "folder": str(result.folder),
         "variants": result.variants,
@@ -148,10 +148,26 @@ def sweep_command(
         return
     console().print(
         f"{result.variants:,} variants in {result.chunks} batches "
-        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {result.folder} "
+        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {escape(result.folder)} "
         f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
-        f"Summarize with: vrusim summarize {result.folder}"
+        f"Summarize with: vrusim summarize {escape(result.folder)}"
     )
+
+
+def _saved(out: Path) -> str:
+    """What a stopped sweep left in `out`: finished batches to --resume, a started sweep, or nothing."""
+    from vrusim.sweep.store import SweepStore
+
+    store = SweepStore(out)
+    if not store.manifest_path.is_file():
+        return "nothing was written"
+    try:
+        done = len(store.finished())
+    except (UserInputError, OSError):
+        done = 0
+    if done:
+        return f"{done} finished batch{'es' if done != 1 else ''} saved in {out}; continue with --resume"
+    return f"no batch finished yet in {out}; continue with --resume (it runs them all)"
 
 
 def _stop(bar: Progress) -> None:
@@ -214,7 +230,7 @@ def _print_plan(plan: dict, as_json: bool) -> None:
         return
     out = console()
     out.print(
-        f"{plan['name']}: {plan['variants']:,} variants ({_counts(plan)}) in {plan['batches']:,} batches of "
+        f"{escape(plan['name'])}: {plan['variants']:,} variants ({_counts(plan)}) in {plan['batches']:,} batches of "
         f"{plan['batch_size']:,}; seed {plan['seed']}"
     )
     for p in plan["parameters"]:
