@@ -54,3 +54,11 @@ def test_dry_run_reports_a_bad_grid_value_as_a_user_error(tmp_path):
     spec = tmp_path / "s.yaml"
     spec.write_text(yaml.safe_dump({**BASE, "parameters": {"vrus[0].top_speed_mps": {"linspace": [3, -1, 3000]}}}))
     assert_user_error(invoke("sweep", spec, "--dry-run"), "variant", "vrus[0].top_speed_mps")
+
+
+def test_a_planner_refusing_its_params_names_the_variant_and_its_values():
+    plan = plan_of({"planner.name": ["fsm", "aeb"]}, samples=3)  # the base's params are the fsm planner's
+    with pytest.raises(UserInputError) as caught:
+        preflight(plan, make_design(plan))
+    message = str(caught.value)
+    assert message.startswith("variant 3 (planner.name='aeb'): ") and "planner.params.emergency_decel_mps2" in message

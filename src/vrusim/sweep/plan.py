@@ -174,12 +174,17 @@ class VariantBuilder:
         first = next(iter(self.bases.values()))
         self.steps: list[tuple[Step, ...]] = [check_path(first, p.path) for p in plan.parameters]
 
+    def label(self, design: dict[str, Sequence[Any]], row: int) -> str:
+        """A variant as messages name it: `variant 1 (planner.name='aeb')`."""
+        values = ", ".join(f"{p.path}={design[p.path][row]!r}" for p in self.plan.parameters)
+        return f"variant {design['variant'][row]} ({values})"
+
     def build(self, design: dict[str, Sequence[Any]], rows: range | Sequence[int]) -> list[Scenario]:
         """The variants at the given design rows; a bad variant raises UserInputError naming it and the field."""
         names = [p.path for p in self.plan.parameters]
         columns = [design[name] for name in names]
         tests = design.get(TEST_COLUMN)
-        variants, seeds = design["variant"], design["seed"]
+        seeds = design["seed"]
         out = []
         for row in rows:
             base = self.bases[tests[row] if tests is not None else FILE_BASE]
@@ -187,8 +192,7 @@ class VariantBuilder:
             try:
                 scenario = with_values(base, list(zip(self.steps, values, strict=True)), "")
             except UserInputError as error:
-                label = ", ".join(f"{name}={value!r}" for name, value in zip(names, values, strict=True))
-                raise UserInputError(f"variant {variants[row]} ({label}){error}") from None
+                raise UserInputError(f"{self.label(design, row)}{error}") from None
             if "sim.seed" not in names:
                 scenario = scenario.model_copy(
                     update={"sim": scenario.sim.model_copy(update={"seed": int(seeds[row])})}

@@ -16,7 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from vrusim.engine.compiled_run import compiled_support
+from vrusim.errors import UserInputError
 from vrusim.planners.registry import make_planner
+from vrusim.scenario.schema import Scenario
 from vrusim.sim.params import pack
 from vrusim.sweep.columnar import ColumnarPacker
 from vrusim.sweep.design import design_rows, preflight_rows
@@ -58,6 +60,18 @@ def _column_check(plan: SweepPlan, builder: VariantBuilder, design: dict[str, np
     return True
 
 
+def _raise_for_first(
+    builder: VariantBuilder, rows: dict[str, list], variants: list[tuple[int, Scenario]], planner: str
+) -> None:
+    """Raise the planner's error for the first of `variants` (position in `rows`, scenario) it refuses, naming
+    the variant and its parameter values."""
+    for position, scenario in variants:
+        try:
+            make_planner(planner).reset(pack([scenario]))
+        except UserInputError as error:
+            raise UserInputError(f"{builder.label(rows, position)}: {error}") from None
+
+
 def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> Preflight:
     """Check the variants of a sweep (see the module); a bad one raises UserInputError naming it."""
     builder = VariantBuilder(plan)
@@ -66,12 +80,17 @@ def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> Preflight:
     compiled = True
     for first in range(0, len(rows), SLICE):
         some = rows[first : first + SLICE]
-        scenarios = builder.build({k: v[some].tolist() for k, v in design.items()}, range(len(some)))
-        by_planner: dict[str, list] = {}
-        for scenario in scenarios:
-            by_planner.setdefault(scenario.planner.name, []).append(scenario)
-        for name, group in by_planner.items():
-            batch, planner = pack(group), make_planner(name)
-            planner.reset(batch)  # planner.params validated by the planner
+        rows_of = {k: v[some].tolist() for k, v in design.items()}
+        scenarios = builder.build(rows_of, range(len(some)))
+        by_planner: dict[str, list[int]] = {}
+        for position, scenario in enumerate(scenarios):
+            by_planner.setdefault(scenario.planner.name, []).append(position)
+        for name, positions in by_planner.items():
+            batch, planner = pack([scenarios[i] for i in positions]), make_planner(name)
+            try:
+                planner.reset(batch)  # planner.params validated by the planner
+            except UserInputError:
+                _raise_for_first(builder, rows_of, [(i, scenarios[i]) for i in positions], name)
+                raise  # pragma: no cover (the batch failed, so one of its variants does)
             compiled = compiled and compiled_support(batch, planner, None, trace=False) is None
     return Preflight(len(rows), compiled, column_checked)
