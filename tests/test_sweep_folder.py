@@ -223,3 +223,30 @@ def test_user_errors_and_console_lines_show_control_characters_as_escapes(capsys
 
 def test_an_interrupt_before_the_folder_exists_says_nothing_was_written(tmp_path):
     assert _saved(tmp_path / "m4") == "nothing was written"
+
+
+# --------------------------------------------------------------------------------------------- options and spec keys
+
+
+@pytest.mark.parametrize("size", ["1000001", "99999999999999999999", "0"])
+def test_batch_size_option_has_the_spec_fields_range(tmp_path, size):
+    assert_user_error(
+        invoke("sweep", write_spec(tmp_path), "--dry-run", "--batch-size", size), "--batch-size", "1,000,000"
+    )
+
+
+def test_fifty_unknown_spec_keys_list_eight_and_count_the_rest(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump({**SPEC, **{f"key{i}": 1 for i in range(50)}}))
+    result = invoke("sweep", path, "--dry-run")
+    assert_user_error(result, "invalid sweep spec", "key0", "and 42 more")
+    assert len(result.output.splitlines()) == 10
+
+
+def test_more_workers_than_cores_are_capped_with_a_warning(monkeypatch, capsys):
+    from vrusim.cli import sweep as sweep_cli
+
+    monkeypatch.setattr("vrusim.sweep.execute.cpu_count", lambda: 2)
+    assert sweep_cli._capped(8) == 2
+    assert "Warning: --workers 8: this machine has 2 cores" in capsys.readouterr().err
+    assert sweep_cli._capped(2) == 2 and capsys.readouterr().err == ""

@@ -19,7 +19,7 @@ from vrusim.limits import check_limit
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 from vrusim.sweep.field_paths import Step, check_path, with_values
-from vrusim.sweep.spec import Correlation, Parameter, SweepSpec
+from vrusim.sweep.spec import Correlation, Parameter, SweepSpec, check_batch_size
 
 TEST_COLUMN = "test"
 """Design column of a catalogue sweep: the Euro NCAP test id of each variant."""
@@ -140,8 +140,7 @@ def make_plan(spec: SweepSpec, batch_size: int | None = None) -> SweepPlan:
     for base in resolved.values():
         for parameter in spec.parameters:
             check_path(base, parameter.path)
-    if batch_size is not None and batch_size < 1:
-        raise UserInputError("--batch-size: expected a positive number of variants")
+    check_batch_size(batch_size)
     plan = SweepPlan(
         name=spec.name,
         bases={key: _dump(base) for key, base in resolved.items()},

@@ -26,7 +26,7 @@ from vrusim.sweep.design import design_rows, make_design
 from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_in_process, run_processes
 from vrusim.sweep.plan import PlannedSweep, SweepPlan, check_budgets, make_plan
 from vrusim.sweep.preflight import Preflight, preflight
-from vrusim.sweep.spec import Parameter, SweepSpec
+from vrusim.sweep.spec import Parameter, SweepSpec, check_batch_size
 from vrusim.sweep.store import SweepStore, check_exactly_once
 from vrusim.sweep.tables import chunk_table, design_types
 from vrusim.version import __version__, source_digest
@@ -133,8 +133,7 @@ def plan_of(spec: Source, batch_size: int | None = None) -> SweepPlan:
     """The plan of a spec (`make_plan`) or of a planned sweep (at `batch_size` when given)."""
     if isinstance(spec, SweepSpec):
         return make_plan(spec, batch_size)
-    if batch_size is not None and batch_size < 1:
-        raise UserInputError("--batch-size: expected a positive number of variants")
+    check_batch_size(batch_size)
     plan = spec.plan if batch_size is None else replace(spec.plan, batch_size=batch_size)
     check_budgets(plan, [scenario_from_mapping(next(iter(plan.bases.values())), plan.name)])
     return plan

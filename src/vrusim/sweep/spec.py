@@ -29,15 +29,16 @@ from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
-from vrusim.scenario.field_paths import Step, parse_path
-from vrusim.scenario.loading import field_path
-from vrusim.scenario.strict import StrictModel, error_message
+from vrusim.scenario.field_paths import Step, describe_validation_error, parse_path
+from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.yaml_file import read_yaml_file
 from vrusim.sweep.normal import normal_cdf
 
 MIN_TRUNCATED_MASS = 1e-6
 """Least probability a truncated normal's interval may hold (`vrusim.sweep.truncated` draws it exactly down to
 that; below it a spec is more likely mistaken than meant)."""
+MAX_BATCH_SIZE = 1_000_000
+"""Most variants in one batch (`batch_size`, `--batch-size`)."""
 GRID_KINDS = ("grid",)
 RANDOM_KINDS = ("uniform", "normal", "truncated_normal", "choice")
 
@@ -70,7 +71,7 @@ class SpecFile(StrictModel):
     parameters: dict[str, Any] = Field(default_factory=dict)
     samples: int = Field(1, ge=1, description="random draws per grid point (limit sweep_variants)")
     seed: int = Field(0, ge=0, lt=2**63)
-    batch_size: int = Field(2000, ge=1, le=1_000_000)
+    batch_size: int = Field(2000, ge=1, le=MAX_BATCH_SIZE)
     correlation: list[CorrelationEntry] = Field(default_factory=list, max_length=100)
 
     @model_validator(mode="after")
@@ -381,10 +382,7 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     try:
         document = SpecFile.model_validate(data)
     except ValidationError as error:
-        lines = [f"{source}: invalid sweep spec"]
-        for item in error.errors(include_url=False):
-            lines.append(f"  {field_path(item['loc'])}: {error_message(item)}")
-        raise UserInputError("\n".join(lines)) from None
+        raise UserInputError(describe_validation_error(error, source, "sweep spec")) from None
     parameters = tuple(parse_parameter(str(path), value) for path, value in document.parameters.items())
     clash = sorted(set(document.set) & set(document.parameters))
     if clash:
@@ -410,6 +408,12 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
         source=data,
         correlations=correlations,
     )
+
+
+def check_batch_size(batch_size: int | None) -> None:
+    """Refuse a `--batch-size` outside 1 … MAX_BATCH_SIZE (the spec field's range)."""
+    if batch_size is not None and not 1 <= batch_size <= MAX_BATCH_SIZE:
+        raise UserInputError(f"--batch-size: expected 1 … {MAX_BATCH_SIZE:,} variants per batch, got {batch_size}")
 
 
 def with_seed(spec: SweepSpec, seed: int) -> SweepSpec:
