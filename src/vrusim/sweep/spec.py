@@ -29,9 +29,10 @@ from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
-from vrusim.scenario.field_paths import Step, describe_validation_error, parse_path
+from vrusim.scenario.field_paths import describe_validation_error
 from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.yaml_file import read_yaml_file
+from vrusim.sweep.field_paths import check_overlaps
 from vrusim.sweep.normal import normal_cdf
 
 MIN_TRUNCATED_MASS = 1e-6
@@ -270,45 +271,6 @@ def parse_parameter(path: str, value: Any) -> Parameter:
         f"parameters.{path}: unknown kind {kind!r}; expected one of: range, linspace, values, uniform, normal, "
         "truncated_normal, choice (or a plain list)"
     )
-
-
-def _steps(path: str) -> tuple[Step, ...] | None:
-    """The normalised steps of a path (`vrus[00]` is `vrus[0]`); None for a malformed one (refused later)."""
-    try:
-        return parse_path(path)
-    except UserInputError:
-        return None
-
-
-def check_overlaps(paths: list[str], fixed: list[str]) -> None:
-    """Refuse two `parameters` entries naming the same field (`vrus[0].x`, `vrus[00].x`), or a field followed by
-    one of its parents (`ego.cruise_speed_mps`, then `ego`): values are applied in spec order, so the variant would
-    take only the later value while the design records both. (A parent followed by its field is fine: the field's
-    value overrides the parent's, e.g. `v2x.channel` then `v2x.channel.latency_s`.) The same for a `set` field
-    and a parameter naming the same field written differently."""
-    seen: list[tuple[tuple[Step, ...], str]] = []
-    for path in paths:
-        steps = _steps(path)
-        if steps is None:
-            continue
-        for earlier_steps, earlier in seen:
-            if steps == earlier_steps:
-                raise UserInputError(f"parameters: {earlier!r} and {path!r} name the same field; give it once")
-            if earlier_steps[: len(steps)] == steps:
-                raise UserInputError(
-                    f"parameters: {earlier!r} and {path!r} overlap: {earlier} is part of {path}, which comes later "
-                    f"and would overwrite it in every variant; give {path!r} first (its fields then override it) "
-                    "or sweep only one of them"
-                )
-        seen.append((steps, path))
-    for path in fixed:
-        steps = _steps(path)
-        for earlier_steps, earlier in seen:
-            if steps == earlier_steps:
-                raise UserInputError(
-                    f"set.{path}: the same field as parameters.{earlier}; a field is either fixed (set) or swept "
-                    "(parameters), not both"
-                )
 
 
 def check_bounds(parameter: Parameter) -> None:
