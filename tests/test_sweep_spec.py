@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -390,3 +391,73 @@ def test_bad_correlations_name_the_entry(correlation, message):
     with pytest.raises(UserInputError) as error:
         spec(parameters, correlation=correlation)
     assert message in str(error.value)
+
+
+# --------------------------------------------------------------------------------------------- overlapping paths
+
+
+@pytest.mark.parametrize(
+    ("parameters", "fixed", "names"),
+    [
+        (
+            {"vrus[0].top_speed_mps": [0.5, 2.5], "vrus[00].top_speed_mps": [1.5]},
+            {},
+            ["'vrus[0].top_speed_mps'", "'vrus[00].top_speed_mps'", "same field"],
+        ),
+        (
+            {"ego.cruise_speed_mps": [5, 20], "ego": [{"cruise_speed_mps": 12}]},
+            {},
+            ["'ego'", "'ego.cruise_speed_mps'", "overlap", "overwrite"],
+        ),
+        ({"v2x.channel.latency_s": [0.1], "v2x.channel": ["ideal"]}, {}, ["'v2x.channel'", "overlap", "first"]),
+        (
+            {"vrus[00].top_speed_mps": [1.5]},
+            {"vrus[0].top_speed_mps": 1.0},
+            ["set.vrus[0].top_speed_mps", "parameters"],
+        ),
+    ],
+)
+def test_parameters_naming_one_field_twice_are_refused(parameters, fixed, names):
+    with pytest.raises(UserInputError) as caught:
+        spec(parameters, set=fixed)
+    for name in names:
+        assert name in str(caught.value)
+
+
+def test_a_parent_swept_before_its_field_is_overridden_by_the_field(base):
+    ego = base.ego.model_dump(mode="json") | {"cruise_speed_mps": 12.0}
+    plan = make_plan(spec({"ego": [ego], "ego.cruise_speed_mps": [5.0, 20.0]}))
+    design = make_design(plan)
+    variants = VariantBuilder(plan).build({k: v.tolist() for k, v in design.items()}, range(2))
+    assert [v.ego.cruise_speed_mps for v in variants] == [5.0, 20.0]
+
+
+# --------------------------------------------------------------------------------------------- extreme numbers
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ({"range": [0, 1.0e300, 1.0e-300]}, "range: its values"),
+        ({"range": [-1.0e308, 1.0e308, 1.0e308]}, "stop - start to be a finite number"),
+        ({"linspace": [-1.0e308, 1.0e308, 5]}, "stop - start to be a finite number"),
+        ({"uniform": [-1.0e308, 1.0e308]}, "high - low to be a finite number"),
+    ],
+)
+def test_ends_too_far_apart_are_refused_by_name(value, message):
+    with pytest.raises(UserInputError) as caught:
+        parse_parameter("vrus[0].trigger.at_time_s", value)
+    assert "parameters.vrus[0].trigger.at_time_s." in str(caught.value) and message in str(caught.value)
+
+
+def test_huge_choice_weights_are_scaled_and_equal_weights_stay_equal():
+    parameter = parse_parameter("x", {"choice": {"values": [1, 2], "weights": [1.0e308, 1.0e308]}})
+    assert parameter.weights == (0.5, 0.5)
+    assert parse_parameter("x", {"choice": {"values": [1, 2], "weights": [3, 1]}}).weights == (0.75, 0.25)
+
+
+def test_a_seed_beyond_int64_draws_no_warning():
+    plan = make_plan(spec({"sim.seed": {"uniform": [0, 1.0e30]}}, samples=3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        make_design(plan)

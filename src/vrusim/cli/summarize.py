@@ -8,12 +8,11 @@ from typing import Annotated, Any
 import typer
 from rich import box
 from rich.console import Console
-from rich.markup import escape
 from rich.table import Table
 
 from vrusim.cli.fit import fit_table, natural_width
 from vrusim.cli.options import JsonOption, split_names
-from vrusim.cli.output import console, print_json, user_errors
+from vrusim.cli.output import console, escape, print_json, user_errors
 
 _STAT_TITLES = {"count": "n", "mean": "mean", "std": "std", "min": "min", "p5": "p5", "median": "median",
                 "p95": "p95", "max": "max"}  # fmt: skip

@@ -20,7 +20,7 @@ from rich.progress import (
 from rich.text import Text
 
 from vrusim.cli.options import ForceOption, JsonOption, seed_option
-from vrusim.cli.output import console, print_json, user_errors
+from vrusim.cli.output import console, escape, print_json, user_errors, visible, warn
 from vrusim.errors import UserInputError
 
 if TYPE_CHECKING:
@@ -93,6 +93,7 @@ def sweep_command(
         spec = _spec(spec_file, seed)
         if workers < 0:
             raise UserInputError("--workers: expected a positive number of worker processes (0: automatic)")
+        workers = _capped(workers) if scheduler is None else workers
         if dry_run:
             if spec is None:
                 raise UserInputError("SPEC: --dry-run needs a sweep spec file")
@@ -124,16 +125,16 @@ def sweep_command(
             result = run_sweep(spec, out, workers, scheduler, batch_size, resume, progress, force)
         except KeyboardInterrupt:
             _stop(bar)
-            typer.echo(f"Interrupted: finished batches are saved in {out}; continue with --resume.", err=True)
+            typer.echo(visible(f"Interrupted: {_saved(out)}."), err=True)
             raise typer.Exit(INTERRUPTED_EXIT_CODE) from None
         except SweepAbortedError as error:
             _stop(bar)
-            typer.echo(f"Error: {error}; finished batches are saved in {out}; continue with --resume.", err=True)
+            typer.echo(visible(f"Error: {error}; {_saved(out)}."), err=True)
             raise typer.Exit(1) from None
         finally:
             _stop(bar)
     for warning in result.warnings:
-        typer.echo(f"Warning: {warning}", err=True)
+        warn(warning)
     document = {
         "folder": str(result.folder),
         "variants": result.variants,
@@ -148,10 +149,38 @@ def sweep_command(
         return
     console().print(
         f"{result.variants:,} variants in {result.chunks} batches "
-        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {result.folder} "
+        f"({result.chunks_run} run now, {result.chunks_reused} already done) → {escape(result.folder)} "
         f"in {result.elapsed_s:.1f} s ({result.variants_per_s:,.0f} variants/s). "
-        f"Summarize with: vrusim summarize {result.folder}"
+        f"Summarize with: vrusim summarize {escape(result.folder)}"
     )
+
+
+def _saved(out: Path) -> str:
+    """What a stopped sweep left in `out`: finished batches to --resume, a started sweep, or nothing."""
+    from vrusim.sweep.store import SweepStore
+
+    store = SweepStore(out)
+    if not store.manifest_path.is_file():
+        return "nothing was written"
+    try:
+        done = len(store.finished())
+    except (UserInputError, OSError):
+        done = 0
+    if done:
+        return f"{done} finished batch{'es' if done != 1 else ''} saved in {out}; continue with --resume"
+    return f"no batch finished yet in {out}; continue with --resume (it runs them all)"
+
+
+def _capped(workers: int) -> int:
+    """`workers`, at most one per core: each worker process holds its own batches and compiled kernels in memory
+    (8 workers on 2 cores peaked at 1.7 GB) and more processes than cores make no batch finish sooner."""
+    from vrusim.sweep.execute import cpu_count
+
+    cores = cpu_count()
+    if workers > cores:
+        warn(f"--workers {workers}: this machine has {cores} cores for this process; using {cores} workers")
+        return cores
+    return workers
 
 
 def _stop(bar: Progress) -> None:
@@ -197,18 +226,29 @@ def _counts(plan: dict) -> str:
     return f"{plan['tests']:,} catalogue tests × {values:,} parameter grid points × {samples}"
 
 
+SHOWN_VALUES = 8
+"""A longer list of values is printed as its first and last few and its length (--json gives them all)."""
+
+
+def _abridged(value: object) -> object:
+    """A list of more than SHOWN_VALUES values as its first five, '…', its last two and the count."""
+    if not isinstance(value, list) or len(value) <= SHOWN_VALUES:
+        return value
+    return f"[{', '.join(map(repr, value[:5]))}, …, {', '.join(map(repr, value[-2:]))}] ({len(value):,} values)"
+
+
 def _print_plan(plan: dict, as_json: bool) -> None:
     if as_json:
         print_json(plan)
         return
     out = console()
     out.print(
-        f"{plan['name']}: {plan['variants']:,} variants ({_counts(plan)}) in {plan['batches']:,} batches of "
+        f"{escape(plan['name'])}: {plan['variants']:,} variants ({_counts(plan)}) in {plan['batches']:,} batches of "
         f"{plan['batch_size']:,}; seed {plan['seed']}"
     )
     for p in plan["parameters"]:
         drawn = f"  drawn {p['drawn_min']:.6g} … {p['drawn_max']:.6g}" if "drawn_min" in p else ""
-        settings = {k: v for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
+        settings = {k: _abridged(v) for k, v in p.items() if k not in ("name", "kind", "drawn_min", "drawn_max")}
         out.print(f"  {p['name']}: {p['kind']} {settings}{drawn}", markup=False)
     for c in plan["correlations"]:
         ranks = c["drawn_rank_correlation"]

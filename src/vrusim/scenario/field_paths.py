@@ -63,9 +63,9 @@ MAX_LISTED_ERRORS = 8
 """At most this many offending fields are listed in one message (the rest are counted)."""
 
 
-def describe_validation_error(error: ValidationError, source: str) -> str:
+def describe_validation_error(error: ValidationError, source: str, what: str = "scenario") -> str:
     """One readable message listing the offending fields (at most MAX_LISTED_ERRORS) and what was expected."""
-    lines = [f"{source}: invalid scenario"]
+    lines = [f"{source}: invalid {what}"]
     items = error.errors(include_url=False)
     for item in items[:MAX_LISTED_ERRORS]:
         location = tuple(p for p in item["loc"] if p not in ("function-after[_from_pair(), Point]",))

@@ -19,12 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from vrusim.errors import UserInputError
 from vrusim.sweep.normal import normal_cdf, normal_quantile
 from vrusim.sweep.plan import TEST_COLUMN, SweepPlan
 from vrusim.sweep.spec import Parameter, correlation_matrix
-
-MAX_REJECTION_ROUNDS = 100_000
+from vrusim.sweep.truncated import truncated_normal
 
 _GOLDEN, _MIX1, _MIX2 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
 
@@ -48,19 +46,6 @@ def _generator(seed: int, path: str) -> np.random.Generator:
     return np.random.Generator(np.random.PCG64(np.random.SeedSequence([seed, zlib.crc32(path.encode())])))
 
 
-def _truncated_normal(rng: np.random.Generator, p: Parameter, count: int) -> np.ndarray:
-    out = np.empty(count)
-    missing = np.arange(count)
-    for _ in range(MAX_REJECTION_ROUNDS):
-        draws = rng.normal(p.mean, p.std, missing.size)
-        keep = (draws >= p.low) & (draws <= p.high)
-        out[missing[keep]] = draws[keep]
-        missing = missing[~keep]
-        if missing.size == 0:
-            return out
-    raise UserInputError(f"parameters.{p.path}: the truncated normal rejected too many draws")  # pragma: no cover
-
-
 def _column(values: list[Any]) -> np.ndarray:
     """Values as a typed array when they are all numbers or all booleans, else an object array."""
     if all(isinstance(v, bool) for v in values):
@@ -81,7 +66,7 @@ def _draw(p: Parameter, seed: int, count: int) -> np.ndarray:
     if p.kind == "normal":
         return rng.normal(p.mean, p.std, count)
     if p.kind == "truncated_normal":
-        return _truncated_normal(rng, p, count)
+        return truncated_normal(rng, p, count)
     index = rng.choice(len(p.values), size=count, p=list(p.weights) if p.weights else None)
     return _column(list(p.values))[index]
 
@@ -137,7 +122,8 @@ def make_design(plan: SweepPlan) -> dict[str, np.ndarray]:
         if p.is_random:
             columns[p.path] = correlated[p.path] if p.path in correlated else _draw(p, plan.seed, count)
     if "sim.seed" in columns:
-        columns["seed"] = columns["sim.seed"].astype(np.int64)
+        with np.errstate(invalid="ignore"):  # a seed beyond int64 is refused when its variant is built
+            columns["seed"] = columns["sim.seed"].astype(np.int64)
     return columns
 
 
@@ -146,24 +132,34 @@ def design_rows(design: dict[str, np.ndarray], start: int, stop: int) -> dict[st
     return {name: column[start:stop].copy() for name, column in design.items()}
 
 
-def preflight_rows(design: dict[str, np.ndarray], plan: SweepPlan, first: int = 256) -> list[int]:
+def _first_of_each(column: np.ndarray, limit: int) -> list[int]:
+    """The row of the first occurrence of each distinct value (at most `limit` of them)."""
+    if column.dtype.kind in "fib":  # (0.0 and -0.0 count as one value here, as two below: both check alike)
+        return np.unique(column, return_index=True)[1][:limit].tolist()
+    seen: dict[str, int] = {}
+    for row, value in enumerate(column.tolist()):
+        key = repr(value)
+        if key not in seen:
+            seen[key] = row
+            if len(seen) >= limit:
+                break
+    return list(seen.values())
+
+
+def preflight_rows(
+    design: dict[str, np.ndarray], plan: SweepPlan, first: int = 256, max_distinct: int | None = None
+) -> list[int]:
     """Rows worth validating before a sweep starts: the first `first`, each parameter's extremes and every
-    distinct value of a discrete parameter (first occurrence), and the last row."""
+    distinct value of a discrete parameter (first occurrence; only for parameters with at most `max_distinct`
+    values when given), and the last row."""
     rows = set(range(min(first, plan.variants)))
     rows.add(plan.variants - 1)
     for p in plan.parameters:
         column = design[p.path]
         if column.dtype.kind in "fi":
             rows.update((int(np.argmin(column)), int(np.argmax(column))))
-        if not p.is_random or p.kind == "choice":
-            seen: dict[Any, int] = {}
-            for row, value in enumerate(column.tolist()):
-                key = repr(value)
-                if key not in seen:
-                    seen[key] = row
-                    if len(seen) == len(p.values):
-                        break
-            rows.update(seen.values())
+        if (not p.is_random or p.kind == "choice") and (max_distinct is None or len(p.values) <= max_distinct):
+            rows.update(_first_of_each(column, len(p.values)))
     if TEST_COLUMN in design:
         first_of_test: dict[str, int] = {}
         for row in range(0, plan.variants, plan.samples):

@@ -19,7 +19,7 @@ from vrusim.limits import check_limit
 from vrusim.scenario.loading import load_scenario, scenario_from_mapping
 from vrusim.scenario.schema import Scenario
 from vrusim.sweep.field_paths import Step, check_path, with_values
-from vrusim.sweep.spec import Correlation, Parameter, SweepSpec
+from vrusim.sweep.spec import Correlation, Parameter, SweepSpec, check_batch_size
 
 TEST_COLUMN = "test"
 """Design column of a catalogue sweep: the Euro NCAP test id of each variant."""
@@ -140,8 +140,7 @@ def make_plan(spec: SweepSpec, batch_size: int | None = None) -> SweepPlan:
     for base in resolved.values():
         for parameter in spec.parameters:
             check_path(base, parameter.path)
-    if batch_size is not None and batch_size < 1:
-        raise UserInputError("--batch-size: expected a positive number of variants")
+    check_batch_size(batch_size)
     plan = SweepPlan(
         name=spec.name,
         bases={key: _dump(base) for key, base in resolved.items()},
@@ -174,12 +173,17 @@ class VariantBuilder:
         first = next(iter(self.bases.values()))
         self.steps: list[tuple[Step, ...]] = [check_path(first, p.path) for p in plan.parameters]
 
+    def label(self, design: dict[str, Sequence[Any]], row: int) -> str:
+        """A variant as messages name it: `variant 1 (planner.name='aeb')`."""
+        values = ", ".join(f"{p.path}={design[p.path][row]!r}" for p in self.plan.parameters)
+        return f"variant {design['variant'][row]} ({values})"
+
     def build(self, design: dict[str, Sequence[Any]], rows: range | Sequence[int]) -> list[Scenario]:
         """The variants at the given design rows; a bad variant raises UserInputError naming it and the field."""
         names = [p.path for p in self.plan.parameters]
         columns = [design[name] for name in names]
         tests = design.get(TEST_COLUMN)
-        variants, seeds = design["variant"], design["seed"]
+        seeds = design["seed"]
         out = []
         for row in rows:
             base = self.bases[tests[row] if tests is not None else FILE_BASE]
@@ -187,8 +191,7 @@ class VariantBuilder:
             try:
                 scenario = with_values(base, list(zip(self.steps, values, strict=True)), "")
             except UserInputError as error:
-                label = ", ".join(f"{name}={value!r}" for name, value in zip(names, values, strict=True))
-                raise UserInputError(f"variant {variants[row]} ({label}){error}") from None
+                raise UserInputError(f"{self.label(design, row)}{error}") from None
             if "sim.seed" not in names:
                 scenario = scenario.model_copy(
                     update={"sim": scenario.sim.model_copy(update={"seed": int(seeds[row])})}

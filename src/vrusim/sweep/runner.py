@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
 import platform
 import subprocess
 import time
@@ -14,17 +16,17 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from vrusim.engine.compiled_run import compiled_support
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
-from vrusim.planners.registry import make_planner, plugin_source
+from vrusim.planners.registry import plugin_source
 from vrusim.scenario.loading import scenario_from_mapping
-from vrusim.sim.params import pack
 from vrusim.sweep.chunk import ChunkTask
-from vrusim.sweep.design import design_rows, make_design, preflight_rows
+from vrusim.sweep.chunk_checks import checked_batches
+from vrusim.sweep.design import design_rows, make_design
 from vrusim.sweep.execute import connect_dask, cpu_count, run_dask, run_in_process, run_processes
-from vrusim.sweep.plan import PlannedSweep, SweepPlan, VariantBuilder, check_budgets, make_plan
-from vrusim.sweep.spec import Parameter, SweepSpec
+from vrusim.sweep.plan import PlannedSweep, SweepPlan, check_budgets, make_plan
+from vrusim.sweep.preflight import Preflight, preflight
+from vrusim.sweep.spec import Parameter, SweepSpec, check_batch_size
 from vrusim.sweep.store import SweepStore, check_exactly_once
 from vrusim.sweep.tables import chunk_table, design_types
 from vrusim.version import __version__, source_digest
@@ -90,8 +92,12 @@ def code_version() -> dict[str, Any]:
 
 
 def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
-    """The plan recorded in a manifest (its digest checked)."""
+    """The plan recorded in a manifest (checked by `read_manifest`): its digest compared before it is rebuilt,
+    so an edited plan is one message, never an error of the rebuilding."""
     data = manifest["plan"]
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    if hashlib.sha256(text.encode()).hexdigest() != manifest["plan_sha256"]:
+        raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     parameters = tuple(Parameter.from_description(p) for p in data["parameters"])
     correlations = tuple((first, second, float(rho)) for first, second, rho in data.get("correlations", []))
     columns = tuple((name, tuple(values)) for name, values in data.get("base_columns", []))
@@ -105,35 +111,9 @@ def plan_from_manifest(manifest: dict[str, Any]) -> SweepPlan:
         correlations,
         columns,
     )
-    if plan.digest() != manifest.get("plan_sha256"):
+    if plan.digest() != manifest["plan_sha256"]:  # pragma: no cover (a plan vrusim cannot describe back)
         raise UserInputError("manifest.json: the recorded plan does not match its digest (was it edited?)")
     return plan
-
-
-@dataclass(frozen=True)
-class Preflight:
-    """What checking a sample of a sweep's variants found."""
-
-    checked: int
-    """Variants built and checked."""
-    compiled: bool
-    """Every sampled variant runs the engine's compiled step (`engine.compiled_run`), which spreads a batch over
-    the cores as threads of one process."""
-
-
-def preflight(plan: SweepPlan, design: dict[str, np.ndarray]) -> Preflight:
-    """Build and check a sample of variants (extremes, every discrete value, the first batch)."""
-    rows = preflight_rows(design, plan)
-    scenarios = VariantBuilder(plan).build({k: v[rows].tolist() for k, v in design.items()}, range(len(rows)))
-    by_planner: dict[str, list] = {}
-    for scenario in scenarios:
-        by_planner.setdefault(scenario.planner.name, []).append(scenario)
-    compiled = True
-    for name, group in by_planner.items():
-        batch, planner = pack(group), make_planner(name)
-        planner.reset(batch)  # planner.params validated by the planner
-        compiled = compiled and compiled_support(batch, planner, None, trace=False) is None
-    return Preflight(len(rows), compiled)
 
 
 def local_workers(requested: int, compiled: bool) -> int:
@@ -153,8 +133,7 @@ def plan_of(spec: Source, batch_size: int | None = None) -> SweepPlan:
     """The plan of a spec (`make_plan`) or of a planned sweep (at `batch_size` when given)."""
     if isinstance(spec, SweepSpec):
         return make_plan(spec, batch_size)
-    if batch_size is not None and batch_size < 1:
-        raise UserInputError("--batch-size: expected a positive number of variants")
+    check_batch_size(batch_size)
     plan = spec.plan if batch_size is None else replace(spec.plan, batch_size=batch_size)
     check_budgets(plan, [scenario_from_mapping(next(iter(plan.bases.values())), plan.name)])
     return plan
@@ -359,7 +338,7 @@ def _execute(
     """Run the batches missing from `store`, writing each as it finishes: (pending, finished before, variants
     done now in all)."""
     store.clean_temporary()
-    finished = store.finished()
+    finished = checked_batches(store.batch_files(), plan.chunks, plan.chunk_range, plan.digest())
     pending = [i for i in range(plan.chunks) if i not in finished]
     done_variants = sum(np.subtract(*reversed(plan.chunk_range(i))) for i in finished)
     if progress:
@@ -367,7 +346,7 @@ def _execute(
 
     def on_done(task: ChunkTask, table: pa.Table) -> None:
         nonlocal done_variants
-        store.write_chunk(task.index, table)
+        store.write_chunk(task.index, table, task.plan_digest)
         done_variants += table.num_rows
         if progress:
             progress(int(done_variants), plan.variants)

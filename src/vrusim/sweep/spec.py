@@ -29,12 +29,17 @@ from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
-from vrusim.scenario.loading import field_path
-from vrusim.scenario.strict import StrictModel, error_message
+from vrusim.scenario.field_paths import describe_validation_error
+from vrusim.scenario.strict import StrictModel
 from vrusim.scenario.yaml_file import read_yaml_file
+from vrusim.sweep.field_paths import check_overlaps
+from vrusim.sweep.normal import normal_cdf
 
 MIN_TRUNCATED_MASS = 1e-6
-"""Least probability a truncated normal's interval may hold (rejection sampling would never end)."""
+"""Least probability a truncated normal's interval may hold (`vrusim.sweep.truncated` draws it exactly down to
+that; below it a spec is more likely mistaken than meant)."""
+MAX_BATCH_SIZE = 1_000_000
+"""Most variants in one batch (`batch_size`, `--batch-size`)."""
 GRID_KINDS = ("grid",)
 RANDOM_KINDS = ("uniform", "normal", "truncated_normal", "choice")
 
@@ -67,7 +72,7 @@ class SpecFile(StrictModel):
     parameters: dict[str, Any] = Field(default_factory=dict)
     samples: int = Field(1, ge=1, description="random draws per grid point (limit sweep_variants)")
     seed: int = Field(0, ge=0, lt=2**63)
-    batch_size: int = Field(2000, ge=1, le=1_000_000)
+    batch_size: int = Field(2000, ge=1, le=MAX_BATCH_SIZE)
     correlation: list[CorrelationEntry] = Field(default_factory=list, max_length=100)
 
     @model_validator(mode="after")
@@ -159,11 +164,21 @@ def _named(where: str, value: Any, names: tuple[str, ...]) -> list[Any]:
     return value
 
 
+def _finite_span(where: str, low: float, high: float, what: str) -> None:
+    """Refuse ends so far apart that their difference overflows (the values would be infinite or NaN)."""
+    if not math.isfinite(high - low):
+        raise UserInputError(f"{where}: expected {what} to be a finite number, got {low:g} and {high:g}")
+
+
 def _grid_range(where: str, value: Any) -> tuple[float, ...]:
     start, stop, step = _numbers(where, _named(where, value, ("start", "stop", "step")), 3, "[start, stop, step]")
     if step <= 0 or stop < start:
         raise UserInputError(f"{where}: expected step > 0 and stop >= start")
-    count = math.floor((stop - start) / step + 1e-9) + 1
+    _finite_span(where, start, stop, "stop - start")
+    span = (stop - start) / step
+    if not math.isfinite(span):  # a step so small the count overflows
+        check_limit("sweep_variants", 1e300, f"{where}: its values")
+    count = math.floor(span + 1e-9) + 1
     check_limit("sweep_variants", count, f"{where}: its values")
     return tuple(round(start + i * step, 12) for i in range(count))
 
@@ -174,6 +189,7 @@ def _linspace(where: str, value: Any) -> tuple[float, ...]:
     if not isinstance(count, int) or isinstance(count, bool) or count < 1:
         raise UserInputError(f"{where}: count must be a whole number ≥ 1")
     check_limit("sweep_variants", count, f"{where}: count")
+    _finite_span(where, start, stop, "stop - start")
     if count == 1:
         return (start,)
     return tuple(start + (stop - start) * i / (count - 1) for i in range(count))
@@ -194,14 +210,19 @@ def _choice(where: str, value: Any) -> tuple[tuple[Any, ...], tuple[float, ...]]
     total = sum(numbers)
     if any(w < 0 for w in numbers) or total <= 0:
         raise UserInputError(f"{where}.weights: expected non-negative weights with a positive sum")
+    if not math.isfinite(total):  # weights near the float maximum: scaled first (finite sums stay as they were)
+        numbers = [w / max(numbers) for w in numbers]
+        total = sum(numbers)
     return tuple(values), tuple(w / total for w in numbers)
 
 
-def _truncated_mass(mean: float, std: float, low: float, high: float) -> float:
-    def cdf(x: float) -> float:
-        return 0.5 * (1.0 + math.erf((x - mean) / (std * math.sqrt(2.0))))
-
-    return cdf(high) - cdf(low)
+def truncated_mass(mean: float, std: float, low: float, high: float) -> float:
+    """The probability N(mean, std²) gives [low, high], computed in the lower tail (a window above the mean is
+    mirrored), where Φ keeps its relative accuracy far from the mean."""
+    a, b = (low - mean) / std, (high - mean) / std
+    if a > 0:
+        a, b = -b, -a
+    return float(normal_cdf(b) - normal_cdf(a))
 
 
 def parse_parameter(path: str, value: Any) -> Parameter:
@@ -228,6 +249,7 @@ def parse_parameter(path: str, value: Any) -> Parameter:
         low, high = _numbers(where, _named(where, args, ("low", "high")), 2, "[low, high]")
         if not low < high:
             raise UserInputError(f"{where}: expected low < high")
+        _finite_span(where, low, high, "high - low")
         return Parameter(path, "uniform", low=low, high=high)
     if kind == "normal":
         mean, std = _numbers(where, _named(where, args, ("mean", "std")), 2, "[mean, std]")
@@ -239,7 +261,7 @@ def parse_parameter(path: str, value: Any) -> Parameter:
         mean, std, low, high = _numbers(where, _named(where, args, names), 4, "[mean, std, low, high]")
         if std <= 0 or not low < high:
             raise UserInputError(f"{where}: expected std > 0 and low < high")
-        if _truncated_mass(mean, std, low, high) < MIN_TRUNCATED_MASS:
+        if truncated_mass(mean, std, low, high) < MIN_TRUNCATED_MASS:
             raise UserInputError(f"{where}: [low, high] holds almost none of the normal's probability")
         return Parameter(path, "truncated_normal", mean=mean, std=std, low=low, high=high)
     if kind == "choice":
@@ -322,14 +344,12 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
     try:
         document = SpecFile.model_validate(data)
     except ValidationError as error:
-        lines = [f"{source}: invalid sweep spec"]
-        for item in error.errors(include_url=False):
-            lines.append(f"  {field_path(item['loc'])}: {error_message(item)}")
-        raise UserInputError("\n".join(lines)) from None
+        raise UserInputError(describe_validation_error(error, source, "sweep spec")) from None
     parameters = tuple(parse_parameter(str(path), value) for path, value in document.parameters.items())
     clash = sorted(set(document.set) & set(document.parameters))
     if clash:
         raise UserInputError(f"set.{clash[0]}: a field is either fixed (set) or swept (parameters), not both")
+    check_overlaps([p.path for p in parameters], list(map(str, document.set)))
     for parameter in parameters:
         check_bounds(parameter)
     grid_points = math.prod(len(p.values) for p in parameters if not p.is_random)
@@ -350,6 +370,12 @@ def spec_from_mapping(data: Any, source: str, folder: Path) -> SweepSpec:
         source=data,
         correlations=correlations,
     )
+
+
+def check_batch_size(batch_size: int | None) -> None:
+    """Refuse a `--batch-size` outside 1 … MAX_BATCH_SIZE (the spec field's range)."""
+    if batch_size is not None and not 1 <= batch_size <= MAX_BATCH_SIZE:
+        raise UserInputError(f"--batch-size: expected 1 … {MAX_BATCH_SIZE:,} variants per batch, got {batch_size}")
 
 
 def with_seed(spec: SweepSpec, seed: int) -> SweepSpec:

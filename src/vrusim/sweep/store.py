@@ -12,9 +12,9 @@ complete batches, and `--resume` runs exactly the missing ones. Each variant the
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -25,9 +25,9 @@ import pyarrow.parquet as pq
 from vrusim.errors import UserInputError
 from vrusim.io.atomic import write_atomically
 from vrusim.io.paths import check_output_folder, for_option, make_folder, remove_folders, shown
+from vrusim.sweep.chunk_checks import foreign_message, non_finite_column, recorded_digest, with_plan_digest
+from vrusim.sweep.manifest import FORMAT, MANIFEST, RESUME_KEYS, read_manifest
 
-FORMAT = "vrusim-sweep/1"
-MANIFEST = "manifest.json"
 DESIGN = "design.parquet"
 CHUNKS = "chunks"
 _CHUNK_NAME = re.compile(r"chunk-(\d{6,})\.parquet")
@@ -53,7 +53,8 @@ class SweepStore:
 
     def check_new(self, replace: bool = False) -> None:
         """Refuse a folder that cannot take a new sweep: a file, or a folder that is not empty, unless `replace` and
-        it holds a previous sweep's results; or a path that cannot be a folder to write into (`vrusim.io.paths`)."""
+        it holds a previous sweep's results (a vrusim-sweep/1 manifest, and in its chunks folder only files vrusim
+        writes); or a path that cannot be a folder to write into (`vrusim.io.paths`)."""
         check_output_folder(self.folder, "--out")
         if not self.folder.exists() or (self.folder.is_dir() and not any(self.folder.iterdir())):
             return
@@ -62,18 +63,40 @@ class SweepStore:
                 f"--out: {shown(self.folder)} already exists and is not empty; use --resume to continue the sweep in "
                 "it, --force to replace it, or choose a new folder"
             )
-        if not self.manifest_path.is_file():
+        try:
+            read_manifest(self.folder)
+        except UserInputError as error:
             raise UserInputError(
-                f"--out: {shown(self.folder)} is not empty and holds no sweep results (no {MANIFEST}); --force "
-                "replaces only a previous sweep, choose a new folder"
+                f"--out: {shown(self.folder)} is not empty and holds no sweep results ({error}); --force replaces "
+                "only a previous sweep, choose a new folder"
+            ) from None
+        foreign = self._foreign()
+        if foreign:
+            listed = ", ".join(shown(path.name) for path in foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+            raise UserInputError(
+                f"--out: {shown(self.chunks)} holds files vrusim did not write ({listed}); --force deletes only a "
+                "sweep's own files: move them away or choose a new folder"
             )
 
+    def _foreign(self) -> list[Path]:
+        """Entries of the chunks folder (or the path itself, if it is no folder) that are not vrusim's."""
+        if not self.chunks.exists() and not self.chunks.is_symlink():
+            return []
+        if self.chunks.is_symlink() or not self.chunks.is_dir():
+            return [self.chunks]
+        return sorted(path for path in self.chunks.iterdir() if not _is_own(path))
+
     def remove(self) -> None:
-        """Delete a previous sweep's files: the manifest first (the folder stops being a sweep), design, batches."""
+        """Delete a previous sweep's files, only those vrusim writes: the manifest first (the folder stops being
+        a sweep), the design, the batch files and temporary files, then the chunks folder if that left it empty."""
         self.manifest_path.unlink(missing_ok=True)
         (self.folder / DESIGN).unlink(missing_ok=True)
-        if self.chunks.is_dir():
-            shutil.rmtree(self.chunks)
+        if self.chunks.is_dir() and not self.chunks.is_symlink():
+            for path in self.chunks.iterdir():
+                if _is_own(path):
+                    path.unlink()
+            with contextlib.suppress(OSError):
+                self.chunks.rmdir()
 
     def create(self, manifest: dict[str, Any], design: pa.Table, replace: bool = False) -> None:
         """Start a new results folder (missing or empty; with `replace`, one holding a previous sweep, whose files
@@ -101,16 +124,8 @@ class SweepStore:
         remove_folders(self._created)
 
     def manifest(self) -> dict[str, Any]:
-        """The manifest of an existing results folder."""
-        try:
-            manifest = json.loads(self.manifest_path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise UserInputError(f"{self.folder}: not a sweep results folder (no {MANIFEST})") from None
-        except (OSError, ValueError) as error:
-            raise UserInputError(f"{self.manifest_path}: cannot read the sweep manifest ({error})") from None
-        if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
-            raise UserInputError(f"{self.manifest_path}: not a {FORMAT} manifest")
-        return manifest
+        """The manifest of an existing results folder, with the plan `--resume` needs (`vrusim.sweep.manifest`)."""
+        return read_manifest(self.folder, RESUME_KEYS)
 
     def design(self) -> pa.Table:
         """The stored design table."""
@@ -127,19 +142,31 @@ class SweepStore:
             removed += 1
         return removed
 
-    def finished(self) -> set[int]:
-        """Indices of the batches whose results file exists."""
+    def batch_files(self) -> dict[int, Path]:
+        """The batch files present (index → path; folders and links included, for `chunk_checks` to refuse); a
+        name vrusim does not write for its index (`chunk-0000001.parquet`) is a UserInputError."""
         if not self.chunks.is_dir():
-            return set()
-        found = set()
+            return {}
+        found = {}
         for path in self.chunks.iterdir():
             match = _CHUNK_NAME.fullmatch(path.name)
             if match:
-                found.add(int(match.group(1)))
+                index = int(match.group(1))
+                if path.name != chunk_name(index):
+                    raise UserInputError(
+                        f"{shown(path)}: not a name vrusim writes (batch {index} is {chunk_name(index)}); remove it"
+                    )
+                found[index] = path
         return found
 
-    def write_chunk(self, index: int, table: pa.Table) -> Path:
-        """Write batch `index` atomically."""
+    def finished(self) -> set[int]:
+        """Indices of the batches whose results file exists."""
+        return set(self.batch_files())
+
+    def write_chunk(self, index: int, table: pa.Table, plan_digest: str | None = None) -> Path:
+        """Write batch `index` atomically (recording `plan_digest`, `vrusim.sweep.chunk_checks`)."""
+        if plan_digest is not None:
+            table = with_plan_digest(table, plan_digest)
         with for_option("--out"):
             return write_atomically(self.chunks / chunk_name(index), lambda path: write_parquet(table, path), "results")
 
@@ -152,13 +179,34 @@ class SweepStore:
         parts = [_int64s(pq.ParquetFile(path).read(columns=["variant"]).column(0)) for path in self.chunk_files()]
         return np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
 
+    def _read_batch(self, path: Path, digest: str) -> pa.Table:
+        """One batch file, refused (naming it) when unreadable, of another sweep, or holding NaN or infinity."""
+        try:
+            table = pq.read_table(path)
+        except (OSError, pa.ArrowException) as error:
+            raise UserInputError(f"{shown(path)}: cannot read this results file ({error})") from None
+        recorded = recorded_digest(table.schema.metadata)
+        if recorded is not None and recorded != digest:
+            raise UserInputError(foreign_message(path, recorded, digest))
+        column = non_finite_column(table)
+        if column is not None:
+            raise UserInputError(f"{shown(path)}: column {column} holds NaN or infinity, which vrusim never writes")
+        return table
+
     def read(self) -> pa.Table:
         """Every finished row, sorted by variant (batches with other planners may add columns: NULL elsewhere)."""
-        tables = [pq.read_table(path) for path in self.chunk_files()]
+        digest = self.manifest()["plan_sha256"]
+        tables = [self._read_batch(path, digest) for path in self.chunk_files()]
         if not tables:
             raise UserInputError(f"{self.folder}: no finished batches yet")
         table = pa.concat_tables(tables, promote_options="default")
         return table.sort_by("variant")
+
+
+def _is_own(path: Path) -> bool:
+    """A file vrusim writes in the chunks folder: a batch file or a temporary file (not a folder or a link)."""
+    own = _CHUNK_NAME.fullmatch(path.name) or (path.name.startswith(".") and path.name.endswith(".tmp"))
+    return bool(own) and path.is_file() and not path.is_symlink()
 
 
 def write_parquet(table: pa.Table, path: Path) -> None:

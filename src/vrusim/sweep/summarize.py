@@ -13,7 +13,6 @@ See docs/sweep_analysis.md.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from decimal import Decimal
@@ -25,10 +24,9 @@ import duckdb
 from vrusim.errors import UserInputError
 from vrusim.io.paths import check_name
 from vrusim.studies.compare import wilson_interval
+from vrusim.sweep.chunk_checks import PLAN_KEY, foreign_message
+from vrusim.sweep.manifest import MANIFEST, read_manifest
 
-FORMAT = "vrusim-sweep/1"
-"""The manifest's `format` this module reads."""
-MANIFEST = "manifest.json"
 CHUNKS_FOLDER = "chunks"
 DEFAULT_BINS = 10
 DEFAULT_METRICS = ("min_ttc_s", "impact_ego_speed_mps", "safety", "efficiency", "comfort")
@@ -152,28 +150,6 @@ class SweepResults:
         raise UserInputError(f"{option}: unknown metric {name!r}; expected one of: {choices}")
 
 
-def _read_manifest(directory: Path) -> dict[str, Any]:
-    path = directory / MANIFEST
-    if not path.is_file():
-        raise UserInputError(f"{directory}: no {MANIFEST}; expected a sweep results directory (vrusim sweep)")
-    try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{path}: cannot read ({error})") from None
-    except json.JSONDecodeError as error:
-        raise UserInputError(f"{path}: not valid JSON ({error.msg} at line {error.lineno})") from None
-    if not isinstance(manifest, dict):
-        raise UserInputError(f"{path}: expected a JSON object")
-    if manifest.get("format") != FORMAT:
-        raise UserInputError(f"{path}: format: expected {FORMAT!r}, got {manifest.get('format')!r}")
-    parameters = manifest.get("parameters")
-    if not isinstance(parameters, list) or not all(
-        isinstance(entry, dict) and isinstance(entry.get("name"), str) for entry in parameters
-    ):
-        raise UserInputError(f"{path}: parameters: expected a list of objects with a 'name'")
-    return manifest
-
-
 def chunk_files(directory: Path) -> list[Path]:
     """The finished chunk files, sorted by name (temporary files, named with a leading '.', are skipped)."""
     folder = directory / CHUNKS_FOLDER
@@ -188,7 +164,7 @@ def _open(directory: str | Path, con: duckdb.DuckDBPyConnection) -> SweepResults
         raise UserInputError(f"{directory}: results directory not found")
     if not directory.is_dir():
         raise UserInputError(f"{directory}: expected a sweep results directory, got a file")
-    manifest = _read_manifest(directory)
+    manifest = read_manifest(directory)
     files = chunk_files(directory)
     if not files:
         raise UserInputError(
@@ -198,8 +174,43 @@ def _open(directory: str | Path, con: duckdb.DuckDBPyConnection) -> SweepResults
     columns = {row[0]: row[1] for row in described}
     if OUTCOME_COLUMN not in columns:
         raise UserInputError(f"{directory / CHUNKS_FOLDER}: the chunk files have no {OUTCOME_COLUMN!r} column")
+    _check_files(con, directory, manifest, files, columns)
     parameters = tuple(entry["name"] for entry in manifest["parameters"])
     return SweepResults(directory, manifest, tuple(files), columns, parameters)
+
+
+def _check_files(
+    con: duckdb.DuckDBPyConnection, directory: Path, manifest: dict[str, Any], files: list[Path], columns: dict
+) -> None:
+    """Refuse more chunk files than the manifest announces, a file of another sweep (`chunk_checks`) and a
+    float column holding NaN or infinity (vrusim writes NULL for an absent value), naming the file."""
+    expected = manifest.get("chunks")
+    if expected is not None and len(files) > expected:
+        raise UserInputError(
+            f"{directory / CHUNKS_FOLDER}: {len(files)} chunk files, but {MANIFEST} announces {expected}; remove "
+            "the files that do not belong to this sweep"
+        )
+    digest = manifest.get("plan_sha256")
+    if digest is not None:
+        sql = "SELECT file_name, decode(value) FROM parquet_kv_metadata($files) WHERE key = $key"
+        key = PLAN_KEY.decode()
+        try:
+            rows = con.execute(sql, {"files": [str(f) for f in files], "key": key}).fetchall()
+        except duckdb.Error as error:
+            detail = str(error).strip().splitlines()[0]
+            raise UserInputError(f"{directory / CHUNKS_FOLDER}: cannot read the chunk files ({detail})") from None
+        for name, recorded in rows:
+            if recorded != digest:
+                raise UserInputError(foreign_message(Path(name), recorded, digest))
+    floats = [name for name, kind in columns.items() if kind in ("DOUBLE", "FLOAT")]
+    if floats:
+        test = " OR ".join(f"NOT isfinite({quote(name)})" for name in floats)
+        picked = ", ".join(f"NOT isfinite({quote(name)})" for name in floats)
+        source = "read_parquet($files, union_by_name = true, filename = true)"
+        found = _run(con, f"SELECT filename, {picked} FROM {source} WHERE {test} LIMIT 1", files, directory)
+        if found:
+            column = next(name for name, bad in zip(floats, found[0][1:], strict=True) if bad)
+            raise UserInputError(f"{found[0][0]}: column {column} holds NaN or infinity, which vrusim never writes")
 
 
 def open_results(directory: str | Path) -> SweepResults:
