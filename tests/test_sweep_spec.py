@@ -461,3 +461,18 @@ def test_a_seed_beyond_int64_draws_no_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         make_design(plan)
+
+
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        ({"name": "a\x01b"}, r"name: .*control character U\+0001 \(character 2\)"),
+        ({"name": "two\nlines"}, r"name: .*control character U\+000A"),
+        ({"description": "x\ud800y"}, r"description: .*lone surrogate U\+D800"),
+    ],
+)
+def test_free_text_of_a_spec_that_no_output_can_carry_is_refused(fields, message):
+    """A spec's name and description reach the terminal, the manifest and the HTML report, as a scenario's do."""
+    with pytest.raises(UserInputError, match=message):
+        spec({"ego.cruise_speed_mps": [10.0]}, **fields)
+    assert spec({"ego.cruise_speed_mps": [10.0]}, name="ok", description="two\n\tlines").name == "ok"

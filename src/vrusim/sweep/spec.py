@@ -31,6 +31,7 @@ from vrusim.limits import check_limit
 from vrusim.scenario.bounds import bound_excess
 from vrusim.scenario.field_paths import describe_validation_error
 from vrusim.scenario.strict import StrictModel
+from vrusim.scenario.text import OneLineText, Text
 from vrusim.scenario.yaml_file import read_yaml_file
 from vrusim.sweep.field_paths import check_overlaps
 from vrusim.sweep.normal import normal_cdf
@@ -64,8 +65,8 @@ class CorrelationEntry(StrictModel):
 class SpecFile(StrictModel):
     """The YAML document as written (parameters are parsed separately into `Parameter`s)."""
 
-    name: str | None = Field(None, min_length=1)
-    description: str = ""
+    name: OneLineText | None = Field(None, min_length=1)
+    description: Text = ""
     base: str | None = Field(None, min_length=1, description="scenario YAML file, relative to the spec file")
     catalogue: CatalogueBase | None = None
     set: dict[str, Any] = Field(default_factory=dict)
